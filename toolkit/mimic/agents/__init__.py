@@ -1,0 +1,1 @@
+"""Controllers behind one interface (see ``mimic.agents.base.Agent``)."""

@@ -1,0 +1,1 @@
+"""The `mimic` command line: thin Typer commands over the library core."""

@@ -1,0 +1,118 @@
+"""Readable text files for keyframe motions, and the library of our own team's motions.
+
+Format (angles in degrees, simulator convention; ``#`` starts a comment)::
+
+    motion kick_right
+    speed_rate 1.0
+    step 0.5                 # time to reach this keyframe from the previous one [s]
+    both_hip_pitch 19        # left = 19, right = the mirrored value
+    both_knee_pitch -40
+    left_shoulder_roll 10    # any canonical or simulator joint name
+    step 0.2
+    right_hip_pitch 40       # unlisted joints keep the previous keyframe's angle
+
+A file may instead say ``mirror_of kick_right``: the motion is the sagittal mirror of that one.
+The first keyframe starts from all zeros.
+"""
+
+from __future__ import annotations
+
+import math
+from importlib import resources
+from pathlib import Path
+
+import numpy as np
+
+from mimic.errors import MotionFileError
+from mimic.motion.keyframe import KeyframeStep, Movement
+from mimic.robot.joints import JOINTS, UnknownJointError, joint_index, mirror_angles
+
+__all__ = ["parse_motion", "format_motion", "load_motion", "list_motions", "MOTIONS_DIR"]
+
+MOTIONS_DIR = resources.files("mimic.motion") / "motions"
+
+
+def _set(angles: np.ndarray, name: str, degrees: float, where: str) -> None:
+    if name.startswith("both_"):
+        part = name.removeprefix("both_")
+        left = joint_index(f"left_{part}")
+        angles[left] = math.radians(degrees)
+        right = joint_index(f"right_{part}")
+        angles[right] = math.radians(degrees) * JOINTS[right].mirror_sign
+        return
+    angles[joint_index(name)] = math.radians(degrees)
+
+
+def parse_motion(text: str, source: str = "<text>") -> Movement:
+    """Parse a motion file's text; ``source`` names it in error messages."""
+    name, rate, mirror_of = Path(source).stem, 1.0, None
+    steps: list[KeyframeStep] = []
+    angles, time_s = np.zeros(len(JOINTS)), None
+
+    def close_step():
+        if time_s is not None:
+            steps.append(KeyframeStep(angles.copy(), time_s))
+
+    for lineno, raw in enumerate(text.splitlines(), 1):
+        words = raw.split("#", 1)[0].split()
+        if not words:
+            continue
+        where = f"{source}:{lineno}"
+        key, args = words[0], words[1:]
+        try:
+            if key == "motion" and len(args) == 1:
+                name = args[0]
+            elif key == "speed_rate" and len(args) == 1:
+                rate = float(args[0])
+            elif key == "mirror_of" and len(args) == 1:
+                mirror_of = args[0]
+            elif key == "step" and len(args) == 1:
+                close_step()
+                time_s = float(args[0])
+            elif len(args) == 1 and time_s is not None:
+                _set(angles, key, float(args[0]), where)
+            else:
+                raise MotionFileError(f"{where}: cannot read {raw.strip()!r}; expected "
+                                      "'step SECONDS' or 'JOINT DEGREES' (see mimic.motion.files)")
+        except UnknownJointError as err:
+            raise MotionFileError(f"{where}: {err}") from None
+        except ValueError:
+            raise MotionFileError(f"{where}: {raw.strip()!r} needs a number") from None
+    close_step()
+    if mirror_of is not None:
+        base = load_motion(mirror_of)
+        mirrored = tuple(KeyframeStep(mirror_angles(s.angles_rad), s.time_s) for s in base.steps)
+        return Movement(name, mirrored, base.speed_rate)
+    if not steps:
+        raise MotionFileError(f"{source}: no 'step' in the file; a motion needs at least one")
+    try:
+        return Movement(name, tuple(steps), rate)
+    except ValueError as err:
+        raise MotionFileError(f"{source}: {err}") from None
+
+
+def format_motion(movement: Movement) -> str:
+    """Text of a motion file that parses back to ``movement`` (every joint of every step)."""
+    lines = [f"motion {movement.name}", f"speed_rate {movement.speed_rate:g}"]
+    for step in movement.steps:
+        lines.append(f"step {step.time_s:g}")
+        lines += [f"{j.name} {math.degrees(a):.3f}" for j, a in zip(JOINTS, step.angles_rad)]
+    return "\n".join(lines) + "\n"
+
+
+def list_motions() -> list[str]:
+    """Names of our own team's motions shipped with the package."""
+    return sorted(p.name.removesuffix(".txt") for p in MOTIONS_DIR.iterdir()
+                  if p.name.endswith(".txt"))
+
+
+def load_motion(name_or_path: str | Path) -> Movement:
+    """A shipped motion by name (``kick_right``) or a motion file by path."""
+    path = Path(name_or_path)
+    if path.suffix == ".txt" and path.exists():
+        return parse_motion(path.read_text(), str(path))
+    shipped = MOTIONS_DIR / f"{name_or_path}.txt"
+    if not shipped.is_file():
+        raise MotionFileError(f"unknown motion {str(name_or_path)!r}; shipped motions: "
+                              f"{', '.join(list_motions())} (or give a path to a .txt file)")
+    return parse_motion(shipped.read_text(), f"{name_or_path}.txt")

@@ -1,0 +1,128 @@
+"""The MuJoCo scene: field with lines, two goals, the ball and the robot.
+
+The ball has condim 6 (sliding, torsional and rolling friction) so a kicked ball slows down
+and stops like on grass instead of rolling forever.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from mimic.robot.mjcf import (ActuatorConfig, robot_actuator_xml, robot_default_xml,
+                              robot_sensor_xml, robot_worldbody_xml)
+from mimic.world import field as F
+
+__all__ = ["PhysicsConfig", "scene_xml"]
+
+
+@dataclass(frozen=True)
+class PhysicsConfig:
+    """Simulation settings."""
+
+    # Physics step [s]; the 20 ms agent cycle is a whole number of these.
+    timestep_s: float = 0.004
+    # Ball rolling friction [m]: rolling resistance torque = this * normal force.
+    ball_rolling_friction_m: float = 0.0025
+    # Ball torsional friction [m].
+    ball_torsional_friction_m: float = 0.005
+    # Sliding friction of feet and body on the grass.
+    ground_friction: float = 1.0
+    actuators: ActuatorConfig = ActuatorConfig()
+
+
+def _field_lines_xml() -> str:
+    """Thin, non-colliding boxes just above the grass."""
+    half_l, half_w, w = F.FIELD_LENGTH_M / 2, F.FIELD_WIDTH_M / 2, F.LINE_WIDTH_M / 2
+    boxes = [
+        (0, half_w, half_l, w), (0, -half_w, half_l, w),  # touch lines
+        (half_l, 0, w, half_w), (-half_l, 0, w, half_w), (0, 0, w, half_w),  # goal + halfway
+    ]
+    for sx in (1, -1):  # penalty areas
+        x_in = sx * (half_l - F.PENALTY_DEPTH_M)
+        boxes.append((x_in, 0, w, F.PENALTY_WIDTH_M / 2))
+        for sy in (1, -1):
+            boxes.append((sx * (half_l - F.PENALTY_DEPTH_M / 2), sy * F.PENALTY_WIDTH_M / 2,
+                          F.PENALTY_DEPTH_M / 2, w))
+    rows = [f'<geom class="line" pos="{x} {y} 0.001" size="{sx} {sy} 0.001"/>'
+            for x, y, sx, sy in boxes]
+    n = 24
+    for k in range(n):  # centre circle as short segments
+        a = 2 * math.pi * (k + 0.5) / n
+        seg = F.CENTRE_CIRCLE_RADIUS_M * math.sin(math.pi / n)
+        rows.append(
+            f'<geom class="line" pos="{F.CENTRE_CIRCLE_RADIUS_M * math.cos(a):.4f} '
+            f'{F.CENTRE_CIRCLE_RADIUS_M * math.sin(a):.4f} 0.001" size="{w} {seg:.4f} 0.001" '
+            f'euler="0 0 {a:.4f}"/>')
+    return "\n    ".join(rows)
+
+
+def _goal_xml(name: str, sign: int) -> str:
+    """Posts, crossbar and a back net; ``sign`` +1 for the opponent goal at +x."""
+    x = sign * F.FIELD_LENGTH_M / 2
+    half_w, h, d, r = F.GOAL_WIDTH_M / 2, F.GOAL_HEIGHT_M, F.GOAL_DEPTH_M, 0.05
+    back = x + sign * d
+    return f"""
+    <body name="{name}" pos="0 0 0">
+      <geom class="goal" type="cylinder" pos="{x} {half_w + r} {h / 2}" size="{r} {h / 2}"/>
+      <geom class="goal" type="cylinder" pos="{x} {-half_w - r} {h / 2}" size="{r} {h / 2}"/>
+      <geom class="goal" type="box" pos="{x} 0 {h + r}" size="{r} {half_w + 2 * r} {r}"/>
+      <geom class="net" type="box" pos="{back} 0 {h / 2}" size="0.01 {half_w} {h / 2}"/>
+      <geom class="net" type="box" pos="{x + sign * d / 2} {half_w + r} {h / 2}"
+            size="{d / 2} 0.01 {h / 2}"/>
+      <geom class="net" type="box" pos="{x + sign * d / 2} {-half_w - r} {h / 2}"
+            size="{d / 2} 0.01 {h / 2}"/>
+    </body>"""
+
+
+def scene_xml(config: PhysicsConfig = PhysicsConfig()) -> str:
+    """The whole world as one MJCF document."""
+    half_l, half_w = F.FIELD_LENGTH_M / 2 + 2, F.FIELD_WIDTH_M / 2 + 2
+    b = config
+    return f"""<mujoco model="mimic_soccer">
+  <compiler angle="radian" autolimits="true"/>
+  <!-- impratio stays at 1: a high ratio made 4 ms steps unstable with the stiff servos. -->
+  <option timestep="{b.timestep_s}" integrator="implicitfast" cone="elliptic"
+          iterations="20" ls_iterations="10">
+    <flag eulerdamp="disable"/>
+  </option>
+  <size memory="8M"/>
+  <visual>
+    <global offwidth="1280" offheight="720"/>
+  </visual>
+  <asset>
+    <texture name="grass" type="2d" builtin="checker" rgb1="0.2 0.5 0.2" rgb2="0.22 0.52 0.22"
+             width="256" height="256"/>
+    <material name="grass" texture="grass" texrepeat="30 20"/>
+  </asset>
+  {robot_default_xml(b.actuators)}
+  <default>
+    <default class="line">
+      <geom type="box" contype="0" conaffinity="0" rgba="1 1 1 1" group="2"/>
+    </default>
+    <default class="goal">
+      <geom contype="1" conaffinity="3" rgba="1 1 0.2 1" group="2"/>
+    </default>
+    <default class="net">
+      <geom contype="1" conaffinity="3" rgba="0.9 0.9 0.9 0.3" group="2"/>
+    </default>
+  </default>
+  <worldbody>
+    <light pos="0 0 10" dir="0 0 -1" directional="true"/>
+    <geom name="ground" type="plane" size="{half_l} {half_w} 0.1" material="grass"
+          friction="{b.ground_friction} 0.02 0.001" condim="3" contype="1" conaffinity="3"/>
+    {_field_lines_xml()}
+    {_goal_xml("opponent_goal", +1)}
+    {_goal_xml("own_goal", -1)}
+    <body name="ball" pos="0 0 {F.BALL_RADIUS_M}">
+      <freejoint name="ball"/>
+      <geom name="ball" type="sphere" size="{F.BALL_RADIUS_M}" mass="{F.BALL_MASS_KG}"
+            condim="6" contype="1" conaffinity="3" friction="0.8 {b.ball_torsional_friction_m} {b.ball_rolling_friction_m}"
+            solref="0.005 0.6" rgba="1 0.5 0 1"/>
+    </body>
+{robot_worldbody_xml()}
+  </worldbody>
+{robot_actuator_xml(b.actuators)}
+{robot_sensor_xml()}
+</mujoco>
+"""
