@@ -18,6 +18,7 @@ app = typer.Typer(
 
 #: Modules under mimic.cli that each define ``register(app)``.
 COMMAND_MODULES: tuple[str, ...] = (
+    "trial",
 )
 
 

@@ -1,0 +1,67 @@
+"""The world: standing still, the ball rolling to a stop, events."""
+
+import numpy as np
+import pytest
+
+from mimic.agents.keyframe_player import KeyframePlayer
+from mimic.motion.files import load_motion
+from mimic.runner import run_agent
+from mimic.world import field as F
+from mimic.world.world import CYCLE_S, World
+
+
+@pytest.fixture()
+def world():
+    w = World()
+    w.reset()
+    return w
+
+
+def test_cycle_is_whole_number_of_physics_steps(world):
+    assert world.substeps * world.model.opt.timestep == pytest.approx(CYCLE_S)
+
+
+def test_kicked_ball_rolls_and_stops_between_5_and_20_m(world):
+    world.beam(-5.0, 5.0)
+    world.place_ball(0.0, 0.0)
+    ball_v = world.model.jnt_dofadr[world.model.joint("ball").id]
+    world.data.qvel[ball_v] = 3.0
+    world.data.qvel[ball_v + 4] = 3.0 / F.BALL_RADIUS_M  # rolling, not sliding
+    for _ in range(int(20 / CYCLE_S)):
+        world.step(np.zeros(22))
+        if world.ball_speed_m_s() < 0.005:
+            break
+    assert world.ball_speed_m_s() < 0.005, "ball still rolling after 20 s"
+    assert 5.0 <= world.ball_pos_m()[0] <= 20.0
+
+
+def test_stand_motion_stands_for_60_s(world):
+    world.beam(0.0, 0.0)
+    world.place_ball(3.0, 0.0)
+    run_agent(world, KeyframePlayer(load_motion("stand")), max_duration_s=60.0,
+              stop_when_done=False)
+    assert not world.fallen()
+    assert world.upright()
+
+
+def test_lying_robot_is_detected_as_fallen(world):
+    world.beam(1.0, 1.0, 0.3, lying="front")
+    for _ in range(25):
+        world.step(np.zeros(22))
+    assert world.fallen() and not world.upright()
+
+
+def test_beam_places_robot_and_heading(world):
+    world.beam(-3.0, 2.0, 1.0)
+    assert world.torso_pos_m()[:2] == pytest.approx([-3.0, 2.0])
+    assert world.torso_yaw_rad() == pytest.approx(1.0)
+
+
+def test_goal_and_ball_out(world):
+    world.beam(0.0, 5.0)
+    world.place_ball(F.OPPONENT_GOAL_X_M + 0.3, 0.0)
+    assert world.goal_scored() and not world.ball_out()
+    world.place_ball(0.0, F.FIELD_WIDTH_M / 2 + 0.1)
+    assert world.ball_out() and not world.goal_scored()
+    world.place_ball(F.OPPONENT_GOAL_X_M + 0.3, 3.0)
+    assert world.ball_out()

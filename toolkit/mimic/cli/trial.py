@@ -1,0 +1,133 @@
+"""`mimic trial kick|walk`: the study's statistical trials, variants side by side."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Annotated, Optional
+
+import typer
+from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
+from rich.table import Table
+
+from mimic.cli.common import console, reports_errors
+from mimic.errors import MimicError
+
+trial_app = typer.Typer(help="Run the kick and walk trials (original and learned side by side).",
+                        no_args_is_help=True)
+
+_COMPARE = typer.Option("--compare", "-c", help="Variants to compare (motion names, .mimic "
+                        "models, agent names); the first is the baseline for ratios.")
+_MOTION = typer.Option("--motion", help="One keyframe motion or agent name to try.")
+_MODEL = typer.Option("--model", help="One learned model (.mimic) to try.")
+
+
+def _specs(compare, motion, model, balance, speed_rate, default):
+    from mimic.trials.specs import parse_agent_spec
+    names = list(compare or []) + [n for n in (motion, model) if n]
+    if not names:
+        names = [default]
+    return [parse_agent_spec(n, balance=balance and n.endswith(".mimic"), speed_rate=speed_rate)
+            for n in names]
+
+
+def _progress_bar(total_min: float | None, total_runs: int | None):
+    progress = Progress(TextColumn("[bold]{task.description}"), BarColumn(),
+                        TextColumn("{task.fields[status]}"), TimeElapsedColumn(), console=console)
+    tasks: dict[str, int] = {}
+
+    def update(label: str, batch) -> None:
+        if label not in tasks:
+            tasks[label] = progress.add_task(label, total=total_min or total_runs, status="")
+        eps = batch.episodes
+        if total_min:
+            done = batch.simulated_s / 60
+            status = (f"{done:.1f}/{total_min:g} sim min, kicks {len(batch.rows)}, "
+                      f"goals {sum(e.get('goals', 0) for e in eps)}, "
+                      f"falls {sum(e.get('falls', 0) for e in eps)}")
+        else:
+            done = len(eps)
+            status = f"{done}/{total_runs} runs, falls {sum(e.get('falls', 0) for e in eps)}"
+        progress.update(tasks[label], completed=min(done, total_min or total_runs), status=status)
+
+    return progress, update
+
+
+def _print(result, title: str) -> None:
+    table = Table(title=title)
+    cols = [c for c in result.summary.columns if c != "simulated_min"]
+    for c in cols:
+        table.add_column(c.replace("_", " "), justify="left" if c == "variant" else "right")
+    for row in result.summary.iter_rows(named=True):
+        table.add_row(*[f"{row[c]:.3g}" if isinstance(row[c], float) else str(row[c])
+                        for c in cols])
+    console.print(table)
+    for f in result.files:
+        console.print(f"wrote {f}")
+
+
+@trial_app.command("kick")
+@reports_errors
+def kick(
+    compare: Annotated[Optional[list[str]], _COMPARE] = None,
+    motion: Annotated[Optional[str], _MOTION] = None,
+    model: Annotated[Optional[str], _MODEL] = None,
+    minutes: Annotated[float, typer.Option(help="Simulated minutes per variant.")] = 30.0,
+    seed: Annotated[int, typer.Option(help="Seed; the same seed gives the same table.")] = 0,
+    workers: Annotated[Optional[int], typer.Option(help="Worker processes (default: all cores).")] = None,
+    balance: Annotated[bool, typer.Option(help="Wrap learned motions in balance feedback.")] = False,
+    out: Annotated[Optional[Path], typer.Option("--out", "-o", help="Parquet file of every kick.")] = None,
+    save_rrd: Annotated[Optional[Path], typer.Option(help="Save a Rerun dashboard (.rrd).")] = None,
+) -> None:
+    """Kick trial: kick toward the goal, walk to the ball, kick again until a goal; repeat."""
+    from mimic.trials.api import kick_trial
+    if minutes <= 0:
+        raise MimicError(f"--minutes must be > 0, got {minutes}")
+    specs = _specs(compare, motion, model, balance, 1.0, "kick_right")
+    progress, update = _progress_bar(minutes, None)
+    with progress:
+        result = kick_trial(specs, minutes=minutes, seed=seed, workers=workers, out=out,
+                            progress=update)
+    _print(result, f"kick trial, {minutes:g} simulated min per variant, seed {seed}")
+    if save_rrd:
+        from mimic.viz.trials import save_trial_dashboard
+        save_trial_dashboard(result, save_rrd)
+        console.print(f"wrote {save_rrd}")
+
+
+@trial_app.command("walk")
+@reports_errors
+def walk(
+    compare: Annotated[Optional[list[str]], _COMPARE] = None,
+    motion: Annotated[Optional[str], _MOTION] = None,
+    model: Annotated[Optional[str], _MODEL] = None,
+    minutes: Annotated[Optional[float], typer.Option(help="Simulated minutes per variant.")] = None,
+    runs: Annotated[Optional[int], typer.Option(help="Runs per variant (instead of minutes).")] = None,
+    seed: Annotated[int, typer.Option(help="Seed; the same seed gives the same table.")] = 0,
+    workers: Annotated[Optional[int], typer.Option(help="Worker processes (default: all cores).")] = None,
+    balance: Annotated[bool, typer.Option(help="Wrap learned motions in balance feedback.")] = False,
+    speed_rate: Annotated[float, typer.Option(help="Phase-rate multiplier for learned cyclic motions.")] = 1.0,
+    out: Annotated[Optional[Path], typer.Option("--out", "-o", help="Parquet file of every run.")] = None,
+    save_rrd: Annotated[Optional[Path], typer.Option(help="Save a Rerun dashboard (.rrd).")] = None,
+) -> None:
+    """Walk trial: from the own goal line to the centre line (15 m), repeated."""
+    from mimic.trials.api import walk_trial
+    if minutes is not None and runs is not None:
+        raise MimicError("give --minutes or --runs, not both")
+    if (minutes is not None and minutes <= 0) or (runs is not None and runs <= 0):
+        raise MimicError("--minutes and --runs must be > 0")
+    specs = _specs(compare, motion, model, balance, speed_rate, "walk")
+    if minutes is None and runs is None:
+        runs = 10
+    progress, update = _progress_bar(minutes, runs)
+    with progress:
+        result = walk_trial(specs, minutes=minutes, runs=runs, seed=seed, workers=workers,
+                            out=out, progress=update)
+    _print(result, f"walk trial (15 m), seed {seed}")
+    if save_rrd:
+        from mimic.viz.trials import save_trial_dashboard
+        save_trial_dashboard(result, save_rrd)
+        console.print(f"wrote {save_rrd}")
+
+
+def register(app: typer.Typer) -> None:
+    app.add_typer(trial_app, name="trial")

@@ -1,0 +1,147 @@
+"""The kick trial: ball at the centre spot, kick toward the goal, walk to the ball, kick
+again, until a goal; then reset and repeat. One episode is one call of ``run_kick_episode``.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from mimic.trials.episode import EpisodeClock, FallCounter, get_up, run_until, stand_pose_rad, \
+    stand_still
+from mimic.trials.specs import AgentSpec
+from mimic.world import field as F
+from mimic.world.world import World
+
+__all__ = ["KickTrialConfig", "run_kick_episode", "SUCCESS_DISTANCE_M"]
+
+#: A kick counts as successful when the ball travels farther than this (the study's rule) [m].
+SUCCESS_DISTANCE_M = 2.0
+
+
+@dataclass(frozen=True)
+class KickTrialConfig:
+    """Settings of one kick-trial episode."""
+
+    # Longest simulated time one episode may take [s].
+    episode_limit_s: float = 240.0
+    # Longest walk to the ball before the episode is declared stuck [s].
+    walk_timeout_s: float = 60.0
+    # Ball counts as stopped below this speed [m/s].
+    ball_rest_speed_m_s: float = 0.02
+    # Longest wait for the ball to stop after a kick [s].
+    ball_wait_s: float = 15.0
+    # Start-pose noise: position [m], heading [rad], joint angles [rad].
+    start_noise_pos_m: float = 0.01
+    start_noise_yaw_rad: float = math.radians(2)
+    start_noise_joint_rad: float = math.radians(1)
+
+
+def _direction_error_rad(start_xy: np.ndarray, end_xy: np.ndarray) -> float:
+    """Angle between the ball's travel and the line from its start to the goal centre."""
+    travel = end_xy - start_xy
+    to_goal = np.array([F.OPPONENT_GOAL_X_M, 0.0]) - start_xy
+    if np.linalg.norm(travel) < 1e-6:
+        return math.pi
+    cos = travel @ to_goal / (np.linalg.norm(travel) * np.linalg.norm(to_goal))
+    return float(math.acos(max(-1.0, min(1.0, cos))))
+
+
+def _place_for_kick(world: World, offset_m, rng, config: KickTrialConfig) -> None:
+    """Robot behind the ball at the centre spot, facing the opponent goal."""
+    yaw = rng.normal(0, config.start_noise_yaw_rad)
+    dx, dy = offset_m
+    x = -(dx * math.cos(yaw) - dy * math.sin(yaw)) + rng.normal(0, config.start_noise_pos_m)
+    y = -(dx * math.sin(yaw) + dy * math.cos(yaw)) + rng.normal(0, config.start_noise_pos_m)
+    pose = stand_pose_rad() + rng.normal(0, config.start_noise_joint_rad, size=22)
+    world.beam(x, y, yaw, pose)
+    world.place_ball(0.0, 0.0)
+
+
+def _walk_to_ball(world: World, offset_m, falls: FallCounter, config: KickTrialConfig,
+                  clock: EpisodeClock) -> str:
+    from mimic.agents.walk import make_walk_agent
+    from mimic.agents.walk.goto import GoToPose, pose_behind_ball
+    goto = GoToPose(make_walk_agent())
+    ball = world.ball_pos_m()[:2]
+    goto.set_target(*pose_behind_ball(ball, np.array([F.OPPONENT_GOAL_X_M, 0.0]), offset_m))
+    limit = min(config.walk_timeout_s, clock.left_s(world))
+    outcome = run_until(world, goto, max_s=limit, falls=falls, stop=lambda w: goto.arrived)
+    if outcome in ("stop", "done"):
+        stand_still(world, max_s=0.4, falls=falls)
+        return "arrived"
+    return outcome
+
+
+def run_kick_episode(kick: AgentSpec, seed: int, config: KickTrialConfig = KickTrialConfig()
+                     ) -> tuple[list[dict], dict]:
+    """Play one episode; returns (one row per kick, the episode's summary row)."""
+    rng = np.random.default_rng(seed)
+    world = World()
+    world.reset()
+    offset = kick.ball_offset_m()
+    _place_for_kick(world, offset, rng, config)
+    falls, clock = FallCounter(), EpisodeClock(config.episode_limit_s)
+    stand_still(world, max_s=0.5, falls=falls)
+    rows: list[dict] = []
+    end = "time limit"
+    while clock.left_s(world) > 0:
+        start_xy = world.ball_pos_m()[:2]
+        start_t = world.time_s
+        falls_before = falls.falls
+        outcome = run_until(world, kick.build(), max_s=min(10.0, clock.left_s(world)),
+                            falls=falls)
+        if outcome != "fell":
+            stand_still(world, max_s=min(config.ball_wait_s, clock.left_s(world)), falls=falls,
+                        stop=lambda w: w.ball_speed_m_s() < config.ball_rest_speed_m_s
+                        and w.time_s - start_t > 1.0)
+        else:  # the ball still rolls while the robot lies
+            run_until(world, _Limp(), max_s=min(config.ball_wait_s, clock.left_s(world)),
+                      falls=falls, stop=lambda w: w.ball_speed_m_s() < config.ball_rest_speed_m_s,
+                      abort_on_fall=False)
+        end_xy = world.ball_pos_m()[:2]
+        distance = float(np.linalg.norm(end_xy - start_xy))
+        rows.append(dict(
+            kick=len(rows), time_s=start_t, distance_m=distance,
+            success=distance > SUCCESS_DISTANCE_M,
+            direction_error_deg=math.degrees(_direction_error_rad(start_xy, end_xy)),
+            goal=world.goal_scored(), ball_out=world.ball_out(),
+            fell=falls.falls > falls_before,
+            ball_start_x_m=float(start_xy[0]), ball_start_y_m=float(start_xy[1]),
+            ball_end_x_m=float(end_xy[0]), ball_end_y_m=float(end_xy[1]),
+        ))
+        if world.goal_scored():
+            end = "goal"
+            break
+        if world.ball_out():
+            end = "ball out"
+            break
+        if world.fallen() and not get_up(world, falls):
+            end = "could not get up"
+            break
+        walk = _walk_to_ball(world, offset, falls, config, clock)
+        while walk == "fell" and clock.left_s(world) > 0:
+            if not get_up(world, falls):
+                break
+            walk = _walk_to_ball(world, offset, falls, config, clock)
+        if walk != "arrived":
+            end = {"fell": "could not get up"}.get(walk, "stuck")
+            break
+    summary = dict(seed=seed, duration_s=world.time_s, kicks=len(rows),
+                   goals=int(any(r["goal"] for r in rows)), falls=falls.falls,
+                   getups=falls.getups, end=end, stuck=end == "stuck")
+    return rows, summary
+
+
+class _Limp:
+    """Zero joint speeds: used while waiting on a fallen robot."""
+
+    done = False
+
+    def reset(self, obs) -> None:
+        pass
+
+    def act(self, obs) -> np.ndarray:
+        return np.zeros(22)

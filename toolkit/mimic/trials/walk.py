@@ -1,0 +1,60 @@
+"""The walk trial: from the own goal line to the centre line (15 m), repeated."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from mimic.trials.episode import FallCounter, run_until, stand_pose_rad, stand_still
+from mimic.trials.specs import AgentSpec
+from mimic.world import field as F
+from mimic.world.world import World
+
+__all__ = ["WalkTrialConfig", "run_walk_episode"]
+
+
+@dataclass(frozen=True)
+class WalkTrialConfig:
+    """Settings of one walk run."""
+
+    # Start x [m] (the own goal line) and finish x [m] (the centre line).
+    start_x_m: float = F.OWN_GOAL_X_M
+    finish_x_m: float = 0.0
+    # Longest run before it counts as too slow [s].
+    timeout_s: float = 120.0
+    # Start-pose noise: position [m], heading [rad], joint angles [rad].
+    start_noise_pos_m: float = 0.01
+    start_noise_yaw_rad: float = math.radians(1)
+    start_noise_joint_rad: float = math.radians(0.5)
+
+
+def run_walk_episode(walk: AgentSpec, seed: int, config: WalkTrialConfig = WalkTrialConfig()
+                     ) -> tuple[list[dict], dict]:
+    """One run; returns ([the run's row], the same row as summary) for the shared runner."""
+    rng = np.random.default_rng(seed)
+    world = World()
+    world.reset()
+    y0 = rng.normal(0, config.start_noise_pos_m)
+    world.beam(config.start_x_m + rng.normal(0, config.start_noise_pos_m), y0,
+               rng.normal(0, config.start_noise_yaw_rad),
+               stand_pose_rad() + rng.normal(0, config.start_noise_joint_rad, size=22))
+    world.place_ball(config.start_x_m, F.FIELD_WIDTH_M / 2 - 1.0)  # out of the way
+    falls = FallCounter()
+    stand_still(world, max_s=0.5, falls=falls)
+    start = world.torso_pos_m()
+    t0 = world.time_s
+    outcome = run_until(world, walk.build(), max_s=config.timeout_s, falls=falls,
+                        stop=lambda w: w.torso_pos_m()[0] >= config.finish_x_m)
+    end = world.torso_pos_m()
+    elapsed = world.time_s - t0
+    distance = float(end[0] - start[0])
+    row = dict(seed=seed, duration_s=world.time_s, walk_time_s=elapsed,
+               distance_m=distance, speed_m_s=distance / elapsed if elapsed > 0 else 0.0,
+               y_error_m=float(abs(end[1] - start[1])), y_end_m=float(end[1]),
+               heading_error_deg=math.degrees(abs(world.torso_yaw_rad())),
+               finished=outcome == "stop", fell=outcome == "fell", falls=falls.falls,
+               end={"stop": "finished", "fell": "fell", "timeout": "timeout",
+                    "done": "agent stopped"}[outcome])
+    return [row], row

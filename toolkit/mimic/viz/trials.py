@@ -1,0 +1,82 @@
+"""Trial dashboards: kick-distance histograms, running accuracy, episode markers, where the
+ball ended up on the field; walk speeds and lateral errors per run."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import polars as pl
+import rerun as rr
+import rerun.blueprint as rrb
+
+from mimic.viz.scene import log_field
+
+__all__ = ["log_trial", "save_trial_dashboard"]
+
+_EVENT = "event"
+
+
+def _slug(label: str) -> str:
+    return "".join(c if c.isalnum() else "_" for c in label).strip("_")
+
+
+def _log_kicks(rec: rr.RecordingStream, name: str, kicks: pl.DataFrame) -> None:
+    index = [rr.TimeColumn(_EVENT, sequence=np.arange(kicks.height))]
+    distance = kicks["distance_m"].to_numpy()
+    success = kicks["success"].to_numpy().astype(float)
+    running = np.cumsum(success) / np.arange(1, len(success) + 1) * 100
+    rec.send_columns(f"trial/distance_m/{name}", indexes=index,
+                     columns=rr.Scalars.columns(scalars=distance))
+    rec.send_columns(f"trial/running_accuracy_pct/{name}", indexes=index,
+                     columns=rr.Scalars.columns(scalars=running))
+    counts, _ = np.histogram(distance, bins=np.arange(0.0, 21.0, 1.0))
+    rec.log(f"histogram/{name}", rr.BarChart(counts), static=True)
+    ends = kicks.select("ball_end_x_m", "ball_end_y_m").to_numpy()
+    rec.log(f"world/ball_ends/{name}", rr.Points3D(np.c_[ends, np.full(len(ends), 0.05)],
+                                                  radii=0.06), static=True)
+    starts = kicks.with_row_index().group_by("episode").agg(pl.col("index").min())
+    for episode, first in starts.sort("episode").iter_rows():
+        rec.set_time(_EVENT, sequence=int(first))
+        rec.log(f"episodes/{name}", rr.TextLog(f"episode {episode} starts"))
+
+
+def _log_walks(rec: rr.RecordingStream, name: str, runs: pl.DataFrame) -> None:
+    index = [rr.TimeColumn(_EVENT, sequence=np.arange(runs.height))]
+    for column in ("speed_m_s", "y_error_m"):
+        rec.send_columns(f"trial/{column}/{name}", indexes=index,
+                         columns=rr.Scalars.columns(scalars=runs[column].to_numpy()))
+    counts, _ = np.histogram(runs["speed_m_s"].to_numpy(), bins=np.arange(0.0, 1.5, 0.05))
+    rec.log(f"histogram/{name}", rr.BarChart(counts), static=True)
+
+
+def log_trial(rec: rr.RecordingStream, result) -> None:
+    """Everything of a ``TrialResult`` onto ``rec``."""
+    log_field(rec)
+    for label in result.rows["variant"].unique(maintain_order=True):
+        part = result.rows.filter(pl.col("variant") == label)
+        (_log_kicks if result.kind == "kick" else _log_walks)(rec, _slug(label), part)
+    rec.log("summary", rr.TextDocument(_markdown(result.summary), media_type="text/markdown"),
+            static=True)
+
+
+def _markdown(summary: pl.DataFrame) -> str:
+    from mimic.trials.report import to_markdown
+    return to_markdown(summary)
+
+
+def save_trial_dashboard(result, path: Path) -> None:
+    """Write the dashboard of a trial to an .rrd file with its blueprint."""
+    rec = rr.RecordingStream("mimic_trial")
+    views = [rrb.TimeSeriesView(origin=f"trial/{m}", name=m) for m in
+             (("distance_m", "running_accuracy_pct") if result.kind == "kick"
+              else ("speed_m_s", "y_error_m"))]
+    blueprint = rrb.Blueprint(rrb.Horizontal(
+        rrb.Vertical(*views, rrb.TextDocumentView(origin="summary")),
+        rrb.Vertical(rrb.Spatial3DView(origin="world", name="field"),
+                     rrb.BarChartView(origin="histogram", name="histogram"),
+                     rrb.TextLogView(origin="episodes")),
+    ))
+    rec.save(str(path), default_blueprint=blueprint)
+    log_trial(rec, result)
+    rec.flush()
