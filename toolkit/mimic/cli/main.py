@@ -18,7 +18,9 @@ app = typer.Typer(
 
 #: Modules under mimic.cli that each define ``register(app)``.
 COMMAND_MODULES: tuple[str, ...] = (
+    "record",
     "trial",
+    "train",
 )
 
 

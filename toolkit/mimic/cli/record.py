@@ -1,0 +1,118 @@
+"""`mimic record`, `mimic info` and `mimic import`: make, inspect and import recordings."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+from typing import Annotated, Optional
+
+import typer
+from rich.progress import BarColumn, Progress, TextColumn
+from rich.table import Table
+
+from mimic.cli.common import console, err_console, reports_errors
+
+__all__ = ["register", "print_recording_summary"]
+
+
+def print_recording_summary(summary: dict) -> None:
+    """Print ``describe_recording``'s dict as a table (also used by other info commands)."""
+    table = Table(title=summary["path"], show_header=False, title_justify="left")
+    cyclic = summary.get("cyclic")
+    rows = [("motion", summary.get("motion")), ("agent", summary.get("agent")),
+            ("team", summary.get("team")), ("source", summary.get("source")),
+            ("cyclic", f"yes, period {summary['period_s']:g} s" if cyclic else "no"),
+            ("duration", f"{summary['duration_s']:.2f} s"),
+            ("rate", f"{summary['rate_hz']:.1f} Hz"), ("seed", summary.get("seed")),
+            ("written by", f"mimic {summary.get('toolkit_version')}"),
+            ("state", "interrupted" if summary["interrupted"] else "complete"),
+            ("recovery", summary["recovery"])]
+    for key, value in rows:
+        table.add_row(key, "-" if value is None else str(value))
+    for topic, t in summary["topics"].items():
+        table.add_row(topic, f"{t['messages']} messages ({t['schema']})")
+    console.print(table)
+
+
+def register(app: typer.Typer) -> None:
+    @app.command()
+    @reports_errors
+    def record(
+        name: Annotated[Optional[str], typer.Argument(
+            help="Agent: a shipped motion (stand, kick_right, ...), walk, other-team-walk, "
+                 "other-team-kick.")] = None,
+        out: Annotated[Path, typer.Option("-o", "--out", help="Output .mcap file.")] = None,
+        duration: Annotated[Optional[float], typer.Option(
+            "--duration", help="Seconds to record (default: until the motion ends; cyclic "
+                               "agents: 10 periods).")] = None,
+        seed: Annotated[int, typer.Option(help="Simulation seed.")] = 0,
+        observe_only: Annotated[bool, typer.Option(
+            "--observe-only", help="Record only reached joint angles, no references.")] = False,
+        warmup: Annotated[float, typer.Option(
+            help="Cyclic agents: seconds run before recording.")] = 0.0,
+        model: Annotated[Optional[Path], typer.Option(
+            help="Record a learned motion from a .mimic model file instead of NAME.")] = None,
+    ) -> None:
+        """Run an agent in the simulator and record it as MCAP (Ctrl-C keeps what was made)."""
+        from mimic.errors import MimicError
+        from mimic.recording.reader import describe_recording
+        from mimic.recording.recorder import record as record_agent
+
+        if out is None:
+            raise MimicError("give the output file with -o FILE.mcap")
+        if (name is None) == (model is None):
+            raise MimicError("give an agent NAME or --model FILE.mimic (one of them)")
+        if model is not None:
+            from mimic.agents.registry import agent_from_model
+
+            agent = agent_from_model(model)
+        else:
+            agent = name
+        with Progress(TextColumn("recording"), BarColumn(),
+                      TextColumn("{task.completed:.2f} s sim"), console=err_console,
+                      transient=True) as bar:
+            task = bar.add_task("record", total=None)
+
+            def progress(t_s: float, total_s: float | None) -> None:
+                bar.update(task, completed=t_s, total=total_s)
+
+            result = record_agent(agent, out, duration_s=duration, seed=seed,
+                                  observe_only=observe_only, warmup_s=warmup,
+                                  progress=progress)
+        if result.interrupted:
+            err_console.print(f"interrupted: saved {result.duration_s:.2f} s "
+                              f"({result.samples} samples) to {result.path}", highlight=False)
+            raise typer.Exit(130)
+        print_recording_summary(describe_recording(result.path))
+
+    @app.command()
+    @reports_errors
+    def info(
+        file: Annotated[Path, typer.Argument(help="A recording (.mcap).")],
+        as_json: Annotated[bool, typer.Option("--json", help="Print JSON.")] = False,
+    ) -> None:
+        """Describe a recording: topics, duration, rate, what it holds, whether it is complete."""
+        from mimic.recording.reader import describe_recording
+
+        summary = describe_recording(file)
+        if as_json:
+            console.print_json(json.dumps(summary))
+        else:
+            print_recording_summary(summary)
+
+    @app.command("import")
+    @reports_errors
+    def import_(
+        paper_file: Annotated[Path, typer.Argument(help="A study '::' text file.")],
+        out: Annotated[Path, typer.Option("-o", "--out", help="Output .mcap file.")],
+        topic: Annotated[Optional[str], typer.Option(
+            help="/joint_references or /joint_states (default: by file name).")] = None,
+        distance: Annotated[Optional[float], typer.Option(
+            help="Kick family: which distance [m] to import.")] = None,
+    ) -> None:
+        """Convert one of the study's joint tables into a recording in our layout."""
+        from mimic.recording.paper_import import import_paper_file
+        from mimic.recording.reader import describe_recording
+
+        import_paper_file(paper_file, out, topic=topic, distance_m=distance)
+        print_recording_summary(describe_recording(out))
