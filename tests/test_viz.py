@@ -1,0 +1,57 @@
+"""What the Rerun views contain, read back from the saved .rrd with the `rerun` CLI."""
+
+import shutil
+import subprocess
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from mimic.recording.reader import read_tf
+from mimic.recording.recorder import record
+from mimic.viz.gait import centre_of_mass_path
+from mimic.viz.recording import view_recording
+
+
+def _rerun() -> str | None:
+    venv_bin = Path(__file__).resolve().parents[2] / "venv" / "bin" / "rerun"
+    return str(venv_bin) if venv_bin.exists() else shutil.which("rerun")
+
+
+def rrd_text(path: Path) -> str:
+    rerun = _rerun()
+    if rerun is None:
+        pytest.skip("the rerun binary is not installed")
+    return subprocess.run([rerun, "rrd", "print", str(path)], check=True, capture_output=True,
+                          text=True, env={"RERUN_ANALYTICS": "off", "PATH": "/usr/bin:/bin"},
+                          timeout=120).stdout
+
+
+@pytest.fixture(scope="module")
+def stand_recording(tmp_path_factory):
+    out = tmp_path_factory.mktemp("rec") / "stand.mcap"
+    record("stand", out, duration_s=1.0)
+    return out
+
+
+def test_view_has_robot_field_and_grouped_curves(stand_recording, tmp_path):
+    rrd = tmp_path / "view.rrd"
+    logged = view_recording(stand_recording, save=rrd)
+    assert logged["series"] == ["reached", "reference"]
+    text = rrd_text(rrd)
+    for group, joint in (("head", "head_yaw"), ("arms", "left_elbow_roll"),
+                         ("legs", "right_knee_pitch")):
+        assert f"/joints/{group}/{joint}/reached" in text
+        assert f"/joints/{group}/{joint}/reference" in text
+    assert "/world/robot/left_foot - data columns: [Transform3D" in text
+    assert "/world/robot/torso/shape" in text and "/world/field/lines" in text
+    assert "/world/ball" in text
+
+
+def test_centre_of_mass_of_standing_robot_is_over_the_feet(stand_recording):
+    tracks = read_tf(stand_recording)
+    com = centre_of_mass_path(tracks)
+    feet_x = (tracks["left_foot"].pos_m[:, 0] + tracks["right_foot"].pos_m[:, 0]) / 2
+    assert np.all(np.abs(com[:, 1]) < 0.02)
+    assert np.all(np.abs(com[:, 0] - feet_x) < 0.06)
+    assert np.all((com[:, 2] > 0.2) & (com[:, 2] < 0.35))

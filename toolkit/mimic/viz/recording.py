@@ -1,0 +1,106 @@
+"""The richer view of a recording: robot, ball and field in 3D; joint curves grouped (head,
+arms, legs) with references and reached angles overlaid; footsteps and centre-of-mass path for
+walks; a learned model's output overlaid when given."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import rerun as rr
+import rerun.blueprint as rrb
+
+from mimic.recording.layout import BALL_FRAME, JOINT_REFERENCES, JOINT_STATES
+from mimic.recording.reader import read_joint_table, read_recording, read_tf
+from mimic.viz.curves import curves_blueprint, log_joint_table
+from mimic.viz.gait import centre_of_mass_path, footsteps
+from mimic.viz.paths import ROBOT, WORLD, time_column
+from mimic.viz.scene import log_ball_poses, log_body_poses, log_field, log_robot_geometry
+
+__all__ = ["log_recording", "recording_blueprint", "view_recording"]
+
+
+def log_recording(rec: rr.RecordingStream, path: str | Path, *, model: str | Path | None = None
+                  ) -> dict:
+    """Log a recording (and optionally a model's prediction on its times) onto ``rec``.
+
+    Returns a short description of what was logged (series names, counts).
+    """
+    recording = read_recording(path)
+    logged = {"series": []}
+    if JOINT_STATES in recording.topics:
+        log_joint_table(rec, read_joint_table(recording, JOINT_STATES), "reached")
+        logged["series"].append("reached")
+    if JOINT_REFERENCES in recording.topics:
+        log_joint_table(rec, read_joint_table(recording, JOINT_REFERENCES), "reference")
+        logged["series"].append("reference")
+    if model is not None:
+        log_joint_table(rec, _model_table(model, recording), "learned")
+        logged["series"].append("learned")
+    tracks = read_tf(recording, in_world=True)
+    if tracks:
+        log_field(rec)
+        log_robot_geometry(rec)
+        first = next(iter(tracks.values())).times_ns[0]
+        for name, track in tracks.items():
+            times = (track.times_ns - first) * 1e-9
+            if name == BALL_FRAME:
+                log_ball_poses(rec, times, track.pos_m)
+            else:
+                log_body_poses(rec, times, {name: (track.pos_m, track.quat_wxyz)})
+        logged["frames"] = len(tracks)
+        if recording.info is not None and recording.info.cyclic:
+            _log_gait(rec, tracks, first)
+            logged["gait"] = True
+    return logged
+
+
+def _log_gait(rec: rr.RecordingStream, tracks: dict, first_ns: int) -> None:
+    torso = tracks.get("torso")
+    if torso is None:
+        return
+    com = centre_of_mass_path(tracks)
+    ground = np.c_[com[:, :2], np.zeros(len(com))]
+    rec.log(f"{WORLD}/com_path", rr.LineStrips3D([ground], colors=(240, 60, 60)), static=True)
+    rec.send_columns(f"{WORLD}/com", indexes=[time_column((torso.times_ns - first_ns) * 1e-9)],
+                     columns=rr.Points3D.columns(positions=ground).partition([1] * len(ground)))
+    for side, colour in (("left", (60, 120, 240)), ("right", (240, 180, 40))):
+        foot = tracks.get(f"{side}_foot")
+        if foot is not None:
+            steps = footsteps(foot)
+            rec.log(f"{WORLD}/footsteps/{side}",
+                    rr.Boxes3D(centers=steps + [0.025, 0, 0.002],
+                               half_sizes=[[0.08, 0.04, 0.002]] * len(steps), colors=colour),
+                    static=True)
+
+
+def _model_table(model: str | Path, recording):
+    from mimic.learn.model_file import load_model
+    import polars as pl
+    from mimic.robot.joints import JOINT_NAMES
+    loaded = load_model(model)
+    times = read_joint_table(recording, recording.joint_topic())["time_s"].to_numpy()
+    out = loaded.predict(times)  # (N, 23)
+    return pl.DataFrame({"time_s": times, **{n: out[:, i] for i, n in enumerate(JOINT_NAMES)}})
+
+
+def recording_blueprint() -> rrb.Blueprint:
+    """3D scene on the left, one curve plot per joint group on the right."""
+    return rrb.Blueprint(rrb.Horizontal(
+        rrb.Spatial3DView(origin=WORLD, name="robot"),
+        rrb.Vertical(*curves_blueprint()),
+        column_shares=[2, 3],
+    ))
+
+
+def view_recording(path: str | Path, *, model: str | Path | None = None,
+                   save: str | Path | None = None, spawn: bool = True) -> dict:
+    """Open the view in the Rerun viewer, or save it as an .rrd file."""
+    rec = rr.RecordingStream("mimic", recording_id=str(path))
+    if save is not None:
+        rec.save(str(save), default_blueprint=recording_blueprint())
+    elif spawn:
+        rec.spawn(default_blueprint=recording_blueprint())
+    logged = log_recording(rec, path, model=model)
+    rec.flush()
+    return logged
