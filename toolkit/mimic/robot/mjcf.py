@@ -75,7 +75,7 @@ def _body_xml(body: Body, children: dict[str, list[Body]], parent_anchor, indent
         joint = next(j for j in JOINTS if j.name == body.joint)
         lines.append(
             f'{inner}<joint name="{joint.name}" axis="{_f(body.axis)}" '
-            f'range="{joint.lower_rad:.6f} {joint.upper_rad:.6f}"/>'
+            f'range="{joint.lower_rad!r} {joint.upper_rad!r}"/>'
         )
     lines.append(inner + _geom_xml(body))
     if body.name.endswith("_foot"):
