@@ -34,6 +34,31 @@ def print_recording_summary(summary: dict) -> None:
     console.print(table)
 
 
+def print_model_summary(summary: dict) -> None:
+    """A model's description as a two-column table, per-joint errors as a second table."""
+    table = Table(title=summary.get("path", "model"), show_header=False)
+    table.add_column("field", style="bold")
+    table.add_column("value")
+    per_joint = {}
+    for key, value in summary.items():
+        if isinstance(value, dict):
+            if key == "metrics":
+                per_joint = value.get("mae_rad_per_joint", {})
+                for k, v in value.items():
+                    if not isinstance(v, dict):
+                        table.add_row(f"metrics.{k}", f"{v:.4g}" if isinstance(v, float) else str(v))
+            continue
+        table.add_row(key, json.dumps(value) if isinstance(value, (list, tuple)) else str(value))
+    console.print(table)
+    if per_joint:
+        errors = Table(title="mean absolute error per joint [rad]")
+        errors.add_column("joint")
+        errors.add_column("MAE", justify="right")
+        for name, v in per_joint.items():
+            errors.add_row(name, f"{v:.4f}")
+        console.print(errors)
+
+
 def register(app: typer.Typer) -> None:
     @app.command()
     @reports_errors
@@ -88,12 +113,20 @@ def register(app: typer.Typer) -> None:
     @app.command()
     @reports_errors
     def info(
-        file: Annotated[Path, typer.Argument(help="A recording (.mcap).")],
+        file: Annotated[Path, typer.Argument(help="A recording (.mcap) or a model (.mimic).")],
         as_json: Annotated[bool, typer.Option("--json", help="Print JSON.")] = False,
     ) -> None:
-        """Describe a recording: topics, duration, rate, what it holds, whether it is complete."""
+        """Describe a recording (topics, duration, rate, completeness) or a learned model."""
+        from mimic.learn.model_file import describe_model, is_model_file
         from mimic.recording.reader import describe_recording
 
+        if is_model_file(file):
+            summary = describe_model(file)
+            if as_json:
+                console.print_json(json.dumps(summary))
+            else:
+                print_model_summary(summary)
+            return
         summary = describe_recording(file)
         if as_json:
             console.print_json(json.dumps(summary))

@@ -1,0 +1,101 @@
+"""The whole flow as functions: record -> train -> trial -> tables.
+
+``demo`` is the built-in default job; ``reproduce_paper`` is the study end to end (our kick and
+the other team's walk, recorded, learned, and tried side by side with the study's numbers).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Callable
+
+import polars as pl
+
+from mimic.learn.model_file import save_model
+from mimic.learn.train import TrainConfig, train_model, training_dataset
+from mimic.recording.recorder import record
+from mimic.trials.api import TrialResult, kick_trial, walk_trial
+from mimic.trials.report import STUDY_KICK, STUDY_WALK
+from mimic.trials.specs import AgentSpec
+
+__all__ = ["PaperResult", "record_and_train", "demo", "reproduce_paper", "network_summary"]
+
+Say = Callable[[str], None]
+
+
+def _quiet(_: str) -> None:
+    pass
+
+
+def record_and_train(agent: str, out_dir: Path, *, observe_only: bool = False,
+                     target: str | None = None, seed: int = 0, say: Say = _quiet,
+                     warmup_s: float = 0.0) -> tuple[Path, Path, dict]:
+    """Record ``agent`` into ``out_dir/<agent>.mcap`` and train a model on it.
+
+    Returns:
+        (recording path, model path, the model's training metrics).
+    """
+    out_dir.mkdir(parents=True, exist_ok=True)
+    slug = agent.replace("-", "_")
+    mcap = out_dir / f"{slug}.mcap"
+    say(f"recording {agent} -> {mcap}")
+    record(agent, mcap, seed=seed, observe_only=observe_only, warmup_s=warmup_s)
+    say(f"training on {mcap}")
+    model = train_model(training_dataset(mcap, target=target), TrainConfig(seed=seed))
+    path = save_model(model, out_dir / f"{slug}.mimic")
+    return mcap, path, model.metrics
+
+
+def demo(out_dir: Path = Path("out/demo"), *, minutes: float = 2.0, seed: int = 0,
+         workers: int | None = None, say: Say = _quiet, progress=None) -> TrialResult:
+    """Record our kick, learn it, and run the kick trial of both side by side."""
+    _, model, metrics = record_and_train("kick_right", out_dir, seed=seed, say=say)
+    say(f"learned kick: mean absolute error {metrics['mae_rad']:.4f} rad")
+    say(f"kick trial, {minutes:g} simulated minutes per variant")
+    return kick_trial([AgentSpec("motion", "kick_right"), AgentSpec("model", str(model))],
+                      minutes=minutes, seed=seed, workers=workers,
+                      out=out_dir / "kick_trial.parquet", progress=progress)
+
+
+@dataclass
+class PaperResult:
+    """The study's three tables, ours beside theirs."""
+
+    network: pl.DataFrame
+    kick: pl.DataFrame
+    walk: pl.DataFrame
+    files: list[Path] = field(default_factory=list)
+
+
+def network_summary(metrics: dict[str, dict]) -> pl.DataFrame:
+    """Table 1: the network and its fit, per learned motion, beside the study's kick fit."""
+    rows = [dict(motion="study: ITAndroids kick", parameters=5123, epochs=50000,
+                 mae_rad=0.0178, max_error_rad=1.37)]
+    for motion, m in metrics.items():
+        rows.append(dict(motion=motion, parameters=int(m.get("parameters", 5123)),
+                         epochs=int(m.get("epochs", 0)), mae_rad=float(m["mae_rad"]),
+                         max_error_rad=float(m.get("max_error_rad", float("nan")))))
+    return pl.DataFrame(rows)
+
+
+def reproduce_paper(out_dir: Path = Path("out/paper"), *, minutes: float = 30.0, seed: int = 0,
+                    workers: int | None = None, say: Say = _quiet, progress=None) -> PaperResult:
+    """Record our kick and the other team's walk, learn both, run both trials."""
+    _, kick_model, kick_metrics = record_and_train("kick_right", out_dir, seed=seed, say=say)
+    _, walk_model, walk_metrics = record_and_train("other-team-walk", out_dir, seed=seed,
+                                                   say=say, observe_only=True, warmup_s=2.0)
+    say(f"kick trial, {minutes:g} simulated minutes per variant")
+    kick = kick_trial([AgentSpec("motion", "kick_right"), AgentSpec("model", str(kick_model))],
+                      minutes=minutes, seed=seed, workers=workers,
+                      out=out_dir / "kick_trial.parquet", progress=progress)
+    say(f"walk trial, {minutes:g} simulated minutes per variant")
+    walk = walk_trial([AgentSpec("agent", "other-team-walk"), AgentSpec("model", str(walk_model))],
+                      minutes=minutes, seed=seed, workers=workers,
+                      out=out_dir / "walk_trial.parquet", progress=progress)
+    network = network_summary({"kick_right": kick_metrics, "other_team_walk": walk_metrics})
+    kick_table = pl.concat([STUDY_KICK, kick.summary.select(STUDY_KICK.columns)],
+                           how="vertical_relaxed")
+    walk_table = pl.concat([STUDY_WALK, walk.summary.select(STUDY_WALK.columns)],
+                           how="vertical_relaxed")
+    return PaperResult(network, kick_table, walk_table, [*kick.files, *walk.files])
