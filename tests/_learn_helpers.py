@@ -1,0 +1,27 @@
+"""Shared helpers for the learn tests: small synthetic motions and the study's kick."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import polars as pl
+
+from mimic.robot.joints import JOINT_NAMES
+
+PAPER_DATA = Path(__file__).resolve().parents[2] / "shared" / "paper-data"
+
+
+def joint_frame(t: np.ndarray, q: np.ndarray, ended: np.ndarray | None = None) -> pl.DataFrame:
+    cols = {"time_s": t, **{n: q[:, i] for i, n in enumerate(JOINT_NAMES)}}
+    if ended is not None:
+        cols["ended"] = ended
+    return pl.DataFrame(cols)
+
+
+def smooth_motion(n: int = 40, seed: int = 0) -> tuple[np.ndarray, np.ndarray]:
+    """(t, q): n samples at 50 Hz of a smooth 22-joint motion (rad)."""
+    rng = np.random.default_rng(seed)
+    t = np.arange(n) * 0.02
+    amp, freq, ph = rng.uniform(0.1, 0.5, 22), rng.uniform(0.5, 1.5, 22), rng.uniform(0, 6, 22)
+    return t, amp * np.sin(2 * np.pi * freq * t[:, None] + ph)

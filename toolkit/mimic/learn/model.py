@@ -1,0 +1,93 @@
+"""A trained motion network with everything needed to query it: time (or phase) in, 22 joint
+references [rad] + the ended flag out."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from mimic.learn.network import LEAKY_SLOPE, Layout
+from mimic.robot.joints import JOINT_NAMES, NUM_JOINTS
+
+__all__ = ["MotionModel", "INPUT_TIME", "INPUT_PHASE"]
+
+#: Input kinds: time from the motion start, or the phase of a cyclic motion (sin, cos).
+INPUT_TIME = "time"
+INPUT_PHASE = "phase"
+
+
+@dataclass
+class MotionModel:
+    """A motion network.
+
+    Input mapping: ``time``: x = (t - input_offset_s) * input_scale_per_s (one input);
+    ``phase``: x = (sin 2 pi t / period_s, cos 2 pi t / period_s). Output: y = net(x) *
+    output_std + output_mean; y[:22] are joint references [rad] in ``joint_names`` order, y[22]
+    the ended flag (> 0.5: the motion has ended).
+
+    Attributes:
+        layout: network shape.
+        params: (P,) float32 parameters in ``Layout`` order.
+        input_kind: ``time`` or ``phase``.
+        input_offset_s, input_scale_per_s: the time input mapping (time models).
+        period_s: period of a cyclic motion [s] (phase models), else None.
+        duration_s: time of the last training sample [s].
+        output_mean, output_std: (23,) output de-standardisation.
+        preset: name of the training preset.
+        joint_names: the joint order of the outputs.
+        metrics: training metrics (see ``mimic.learn.train.evaluate``).
+        metadata: the source recording's metadata (motion, team, ball_offset_m, ...).
+    """
+
+    layout: Layout
+    params: np.ndarray
+    input_kind: str = INPUT_TIME
+    input_offset_s: float = 0.0
+    input_scale_per_s: float = 1.0
+    period_s: float | None = None
+    duration_s: float = 0.0
+    output_mean: np.ndarray = field(default_factory=lambda: np.zeros(NUM_JOINTS + 1))
+    output_std: np.ndarray = field(default_factory=lambda: np.ones(NUM_JOINTS + 1))
+    preset: str = "paper"
+    joint_names: tuple[str, ...] = JOINT_NAMES
+    metrics: dict = field(default_factory=dict)
+    metadata: dict = field(default_factory=dict)
+
+    def __post_init__(self) -> None:
+        # float64 copies of the layers for queries: a 5123-parameter network costs a few
+        # microseconds per call this way.
+        self._layers = self.layout.layers(np.asarray(self.params, dtype=np.float64))
+
+    @property
+    def name(self) -> str:
+        return str(self.metadata.get("motion") or "motion")
+
+    @property
+    def cyclic(self) -> bool:
+        return self.input_kind == INPUT_PHASE
+
+    def network_inputs(self, time_s: np.ndarray) -> np.ndarray:
+        """(N, in_dim) network inputs for times (N,) [s]."""
+        t = np.asarray(time_s, dtype=np.float64).reshape(-1)
+        if self.input_kind == INPUT_PHASE:
+            angle = (2.0 * math.pi / self.period_s) * t
+            return np.stack([np.sin(angle), np.cos(angle)], axis=1)
+        return ((t - self.input_offset_s) * self.input_scale_per_s)[:, None]
+
+    def raw(self, x: np.ndarray) -> np.ndarray:
+        """Network output (N, 23) for network inputs x (N, in_dim), before de-standardising."""
+        h = x
+        last = len(self._layers) - 1
+        for i, (w, b) in enumerate(self._layers):
+            h = h @ w + b
+            if i < last:
+                h = np.maximum(h, LEAKY_SLOPE * h)  # LeakyReLU for slope < 1
+        return h
+
+    def predict(self, time_s) -> np.ndarray:
+        """(N, 23) outputs for times (N,) [s] (a scalar time gives (23,))."""
+        scalar = np.ndim(time_s) == 0
+        y = self.raw(self.network_inputs(time_s)) * self.output_std + self.output_mean
+        return y[0] if scalar else y

@@ -1,0 +1,168 @@
+"""The ``.mimic`` model file: a zip (numpy ``.npz``) holding the arrays and one JSON entry.
+
+Entries:
+  ``meta.json``   format tag and version, joint order, input kind and mapping, network shape,
+                  preset, training metrics, source recording metadata, toolkit version;
+  ``params.npy``  (P,) float32 parameters in ``mimic.learn.network.Layout`` order;
+  ``output_mean.npy``, ``output_std.npy``  (23,) output de-standardisation.
+A few kilobytes for the study's network; ``unzip -p model.mimic meta.json`` shows what it is.
+"""
+
+from __future__ import annotations
+
+import io
+import json
+import zipfile
+from pathlib import Path
+
+import numpy as np
+
+from mimic import __version__
+from mimic.errors import ModelFileError
+from mimic.learn.model import MotionModel
+from mimic.learn.network import Layout
+from mimic.robot.joints import JOINT_NAMES
+
+__all__ = ["save_model", "load_model", "describe_model", "is_model_file", "FORMAT", "SUFFIX"]
+
+FORMAT = "mimic-motion-model"
+FORMAT_VERSION = 1
+SUFFIX = ".mimic"
+_META = "meta.json"
+
+
+def _array_bytes(a: np.ndarray) -> bytes:
+    buf = io.BytesIO()
+    np.save(buf, a, allow_pickle=False)
+    return buf.getvalue()
+
+
+def save_model(model: MotionModel, path: str | Path) -> Path:
+    """Write ``model`` to ``path`` (parent folders created); returns the path."""
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    meta = {
+        "format": FORMAT,
+        "format_version": FORMAT_VERSION,
+        "toolkit_version": __version__,
+        "motion": model.name,
+        "joint_names": list(model.joint_names),
+        "outputs": list(model.joint_names) + ["ended"],
+        "input_kind": model.input_kind,
+        "input_offset_s": model.input_offset_s,
+        "input_scale_per_s": model.input_scale_per_s,
+        "period_s": model.period_s,
+        "duration_s": model.duration_s,
+        "layout": {"in_dim": model.layout.in_dim, "out_dim": model.layout.out_dim,
+                   "hidden": list(model.layout.hidden), "activation": "leaky_relu_0.3",
+                   "n_params": model.layout.n_params},
+        "preset": model.preset,
+        "metrics": model.metrics,
+        "source": model.metadata,
+    }
+    tmp = path.with_name(path.name + ".part")
+    with zipfile.ZipFile(tmp, "w", compression=zipfile.ZIP_DEFLATED) as z:
+        z.writestr(_META, json.dumps(meta, indent=1, default=_json_default))
+        z.writestr("params.npy", _array_bytes(np.asarray(model.params, dtype=np.float32)))
+        z.writestr("output_mean.npy", _array_bytes(np.asarray(model.output_mean, dtype=np.float64)))
+        z.writestr("output_std.npy", _array_bytes(np.asarray(model.output_std, dtype=np.float64)))
+    tmp.replace(path)  # never leave a half-written model under the real name
+    return path
+
+
+def _json_default(value):
+    if isinstance(value, np.generic):
+        return value.item()
+    if isinstance(value, np.ndarray):
+        return value.tolist()
+    return str(value)
+
+
+def _read_meta(path: Path) -> tuple[zipfile.ZipFile, dict]:
+    if not path.is_file():
+        raise ModelFileError(f"{path}: no such model file")
+    try:
+        z = zipfile.ZipFile(path)
+        meta = json.loads(z.read(_META))
+    except (zipfile.BadZipFile, KeyError, json.JSONDecodeError, UnicodeDecodeError, OSError):
+        raise ModelFileError(f"{path}: not a mimic model file; train one with "
+                             "'mimic train RECORDING -o MODEL.mimic'") from None
+    if not isinstance(meta, dict) or meta.get("format") != FORMAT:
+        z.close()
+        raise ModelFileError(f"{path}: not a mimic model file (no {FORMAT!r} tag)")
+    return z, meta
+
+
+def is_model_file(path: str | Path) -> bool:
+    """True if ``path`` is a readable ``.mimic`` model file (checks the content, not the name)."""
+    try:
+        z, _ = _read_meta(Path(path))
+    except ModelFileError:
+        return False
+    z.close()
+    return True
+
+
+def load_model(path: str | Path) -> MotionModel:
+    """Read a model file.
+
+    Raises:
+        ModelFileError: missing file, not a model, a newer format, or a different joint layout.
+    """
+    path = Path(path)
+    z, meta = _read_meta(path)
+    with z:
+        if int(meta.get("format_version", 0)) > FORMAT_VERSION:
+            raise ModelFileError(f"{path}: model format {meta['format_version']} is newer than "
+                                 f"this toolkit reads ({FORMAT_VERSION}); update mimic")
+        names = tuple(meta.get("joint_names", ()))
+        if names != JOINT_NAMES:
+            raise ModelFileError(
+                f"{path}: model made for a different joint layout ({len(names)} joints"
+                f"{', first ' + names[0] if names else ''}); this robot has {len(JOINT_NAMES)} "
+                f"joints starting {JOINT_NAMES[0]}: retrain it on a recording of this robot")
+        try:
+            lay = meta["layout"]
+            layout = Layout(in_dim=int(lay["in_dim"]), out_dim=int(lay["out_dim"]),
+                            hidden=tuple(int(h) for h in lay["hidden"]))
+            params = np.load(io.BytesIO(z.read("params.npy")), allow_pickle=False)
+            mean = np.load(io.BytesIO(z.read("output_mean.npy")), allow_pickle=False)
+            std = np.load(io.BytesIO(z.read("output_std.npy")), allow_pickle=False)
+        except (KeyError, ValueError, TypeError) as err:
+            raise ModelFileError(f"{path}: damaged model file ({err})") from None
+    if params.shape != (layout.n_params,) or layout.out_dim != len(JOINT_NAMES) + 1 \
+            or mean.shape != (layout.out_dim,) or std.shape != (layout.out_dim,):
+        raise ModelFileError(f"{path}: damaged model file (array shapes do not match its layout)")
+    return MotionModel(layout, params, meta["input_kind"], float(meta["input_offset_s"]),
+                       float(meta["input_scale_per_s"]), meta.get("period_s"),
+                       float(meta.get("duration_s", 0.0)), mean, std, meta.get("preset", "?"),
+                       names, meta.get("metrics", {}), meta.get("source", {}))
+
+
+def describe_model(path: str | Path) -> dict:
+    """What a model file is, as plain JSON-able data (for ``mimic info MODEL --json``).
+
+    Raises:
+        ModelFileError: as ``load_model``.
+    """
+    path = Path(path)
+    model = load_model(path)
+    z, meta = _read_meta(path)
+    z.close()
+    metrics = dict(meta.get("metrics", {}))
+    return {
+        "kind": "model",
+        "path": str(path),
+        "size_bytes": path.stat().st_size,
+        "motion": model.name,
+        "preset": model.preset,
+        "input_kind": model.input_kind,
+        "duration_s": model.duration_s,
+        "period_s": model.period_s,
+        "n_params": model.layout.n_params,
+        "layout": meta["layout"],
+        "joint_names": list(model.joint_names),
+        "metrics": metrics,
+        "source": meta.get("source", {}),
+        "toolkit_version": meta.get("toolkit_version"),
+    }

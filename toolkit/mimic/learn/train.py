@@ -1,0 +1,197 @@
+"""Training motion networks: one or many datasets, one preset, one seed, batched.
+
+Every dataset gets the same initial weights for a given seed (drawn from
+``np.random.default_rng(seed)``), so a model does not depend on which other motions it was
+trained with; same seed and data -> identical weights. Models with the same input kind
+(time or phase) train together as one batch (``AdamTrainer`` with K stacked networks).
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+from typing import Callable, Sequence
+
+import numpy as np
+
+from mimic import __version__
+from mimic.learn.dataset import Dataset
+from mimic.learn.model import INPUT_PHASE, INPUT_TIME, MotionModel
+from mimic.learn.network import AdamTrainer, Layout, init_params
+from mimic.learn.presets import FAST, Preset
+from mimic.robot.joints import JOINT_NAMES, NUM_JOINTS
+
+__all__ = ["TrainConfig", "TrainProgress", "train_models", "train_model", "evaluate",
+           "input_mapping", "training_dataset", "TARGET_REACHED", "TARGET_COMPENSATED"]
+
+
+@dataclass(frozen=True)
+class TrainConfig:
+    """What to train with."""
+
+    # Training preset (schedule, scaling, init).
+    preset: Preset = FAST
+    # Seed of the initial weights.
+    seed: int = 0
+    # Total epochs override (the preset's phases are stretched/shrunk), or None.
+    epochs: int | None = None
+    # Report progress (and loss curves) every this many epochs.
+    log_every: int = 250
+
+    def schedule(self) -> Preset:
+        return self.preset if self.epochs is None else self.preset.with_epochs(self.epochs)
+
+
+@dataclass(frozen=True)
+class TrainProgress:
+    """A progress report while training (one per ``log_every`` epochs and phase end)."""
+
+    # Motion names of the batch being trained.
+    names: tuple[str, ...]
+    # Index of the learning-rate phase and its rate.
+    phase: int
+    lr: float
+    # Epochs done in total (over all phases) and the total to do.
+    epoch: int
+    epochs_total: int
+    # (K,) mean squared error of the (standardised) training loss, per model.
+    loss: np.ndarray
+    # (K,) mean absolute joint error [rad], per model.
+    mae_rad: np.ndarray
+    # Wall time since the start of this batch [s].
+    wall_s: float
+
+
+def input_mapping(dataset: Dataset, preset: Preset) -> dict:
+    """Input kind and scaling of a dataset under a preset (``MotionModel`` fields)."""
+    if dataset.period_s is not None:
+        return dict(input_kind=INPUT_PHASE, period_s=float(dataset.period_s),
+                    input_offset_s=0.0, input_scale_per_s=1.0)
+    t0, t1 = float(dataset.time_s[0]), float(dataset.time_s[-1])
+    if preset.scale_input:
+        return dict(input_kind=INPUT_TIME, input_offset_s=0.5 * (t0 + t1),
+                    input_scale_per_s=2.0 * preset.input_half_range / max(t1 - t0, 1e-9))
+    return dict(input_kind=INPUT_TIME, input_offset_s=0.0, input_scale_per_s=1.0)
+
+
+def _output_scaling(dataset: Dataset, preset: Preset) -> tuple[np.ndarray, np.ndarray]:
+    if not preset.standardise_output:
+        return np.zeros(NUM_JOINTS + 1), np.ones(NUM_JOINTS + 1)
+    mean = dataset.targets.mean(axis=0)
+    std = np.maximum(dataset.targets.std(axis=0), preset.min_output_std)
+    return mean, std
+
+
+def evaluate(model: MotionModel, dataset: Dataset) -> dict:
+    """Fit metrics of ``model`` on ``dataset``: per-joint and mean absolute error [rad], largest
+    single error [rad], ended-flag accuracy (flag > 0.5 vs target, share of samples)."""
+    y = model.predict(dataset.time_s)
+    err = np.abs(y[:, :NUM_JOINTS] - dataset.angles_rad)
+    flag_ok = (y[:, NUM_JOINTS] > 0.5) == (dataset.targets[:, NUM_JOINTS] > 0.5)
+    return {
+        "mae_rad_per_joint": {n: float(v) for n, v in zip(JOINT_NAMES, err.mean(axis=0))},
+        "mae_rad": float(err.mean()),
+        "max_error_rad": float(err.max()),
+        "ended_accuracy": float(flag_ok.mean()),
+        "n_samples": int(dataset.n_samples),
+    }
+
+
+def train_models(datasets: Sequence[Dataset], config: TrainConfig = TrainConfig(),
+                 progress: Callable[[TrainProgress], None] | None = None) -> list[MotionModel]:
+    """Train one model per dataset (batched by input kind); returns them in input order."""
+    models: list[MotionModel | None] = [None] * len(datasets)
+    groups: dict[int, list[int]] = {}
+    for i, d in enumerate(datasets):
+        groups.setdefault(1 if d.period_s is None else 2, []).append(i)
+    for in_dim, idx in groups.items():
+        for i, m in zip(idx, _train_batch([datasets[i] for i in idx], in_dim, config, progress)):
+            models[i] = m
+    return models  # type: ignore[return-value]
+
+
+def train_model(dataset: Dataset, config: TrainConfig = TrainConfig(),
+                progress: Callable[[TrainProgress], None] | None = None) -> MotionModel:
+    """Train one model."""
+    return train_models([dataset], config, progress)[0]
+
+
+def _train_batch(datasets: list[Dataset], in_dim: int, config: TrainConfig,
+                 progress) -> list[MotionModel]:
+    preset = config.schedule()
+    layout = Layout(in_dim=in_dim)
+    k, n_max = len(datasets), max(d.n_samples for d in datasets)
+    x = np.zeros((k, n_max, in_dim))
+    y = np.zeros((k, n_max, NUM_JOINTS + 1))
+    shells, scales = [], []
+    for i, d in enumerate(datasets):
+        mapping = input_mapping(d, preset)
+        mean, std = _output_scaling(d, preset)
+        shell = MotionModel(layout, np.zeros(layout.n_params, np.float32), **mapping,
+                            duration_s=float(d.time_s[-1]), output_mean=mean, output_std=std,
+                            preset=preset.name, metadata=dict(d.metadata))
+        x[i, : d.n_samples] = shell.network_inputs(d.time_s)
+        y[i, : d.n_samples] = (d.targets - mean) / std
+        shells.append(shell)
+        scales.append(std[:NUM_JOINTS])
+    params0 = init_params(layout, np.random.default_rng(config.seed), preset.init,
+                          knot_range=preset.input_half_range)
+    trainer = AdamTrainer(layout, np.repeat(params0[None], k, axis=0), x, y,
+                          np.array([d.n_samples for d in datasets]), preset.betas, preset.eps)
+    std_j = np.stack(scales)[:, None, :]  # (K, 1, 22)
+    names = tuple(d.name for d in datasets)
+    total, done, start = preset.epochs, 0, time.perf_counter()
+
+    def report(phase: int, lr: float, epochs_done: int) -> None:
+        pred = trainer.predict()
+        err = np.abs(pred[..., :NUM_JOINTS] - y[..., :NUM_JOINTS]) * std_j * trainer.valid[..., None]
+        mae = err.sum(axis=(1, 2)) / (trainer.n_samples * NUM_JOINTS)
+        progress(TrainProgress(names, phase, lr, epochs_done, total, trainer.mse(), mae,
+                               time.perf_counter() - start))
+
+    with np.errstate(over="ignore", under="ignore"):
+        for p, ph in enumerate(preset.phases):
+            trainer.reset_optimizer()  # the study resets Adam at every phase
+            cb = (lambda e, p=p, lr=ph.lr, base=done: report(p, lr, base + e)) if progress else None
+            trainer.run(ph.epochs, ph.lr, callback=cb, every=config.log_every if progress else 0)
+            done += ph.epochs
+    wall_s = time.perf_counter() - start
+    out = []
+    for i, (shell, d) in enumerate(zip(shells, datasets)):
+        model = MotionModel(layout, trainer.params[i].copy(), shell.input_kind,
+                            shell.input_offset_s, shell.input_scale_per_s, shell.period_s,
+                            shell.duration_s, shell.output_mean, shell.output_std, preset.name,
+                            metadata=shell.metadata)
+        model.metrics = {**evaluate(model, d), "epochs": total, "wall_s": wall_s,
+                         "batch_size": k, "seed": config.seed, "toolkit_version": __version__}
+        out.append(model)
+    return out
+
+
+#: Training target kinds: the recorded angles as they are, or compensated references.
+TARGET_REACHED = "reached"
+TARGET_COMPENSATED = "compensated"
+
+
+def training_dataset(path, topic: str | None = None, target: str | None = None) -> Dataset:
+    """Dataset from a recording or study table, with the training target chosen.
+
+    ``target``: ``reached`` (learn the recorded values), ``compensated`` (learn the references
+    that reproduce the recorded angles through the tracking, see ``mimic.learn.compensate``) or
+    None: compensated when the data are observed angles (``/joint_states``), else reached.
+
+    Raises:
+        DatasetError, RecordingError: unreadable input; unknown target kind.
+    """
+    from mimic.errors import DatasetError
+    from mimic.learn.compensate import compensate_references
+    from mimic.learn.dataset import STATES_TOPIC, dataset_from_file
+
+    if target not in (None, TARGET_REACHED, TARGET_COMPENSATED):
+        raise DatasetError(f"unknown target {target!r}; use {TARGET_REACHED} or {TARGET_COMPENSATED}")
+    ds = dataset_from_file(path, topic)
+    if target is None:
+        target = TARGET_COMPENSATED if ds.metadata.get("topic") == STATES_TOPIC else TARGET_REACHED
+    if target == TARGET_COMPENSATED:
+        return ds.with_angles(compensate_references(ds.time_s, ds.angles_rad), target=target)
+    return Dataset(ds.time_s, ds.targets, ds.period_s, {**ds.metadata, "target": target})
