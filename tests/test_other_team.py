@@ -1,0 +1,85 @@
+"""The other team's walk and kick: physical outcomes in the simulator, IK against MuJoCo."""
+
+from __future__ import annotations
+
+import math
+
+import mujoco
+import numpy as np
+import pytest
+
+from mimic.agents.other_team import make_kick, make_walk
+from mimic.agents.other_team.ik import leg_fk, leg_ik
+from mimic.agents.other_team.trials import kick_trial, walk_trial
+from mimic.robot.joints import NUM_JOINTS, joint_index
+from mimic.world.world import CYCLE_S, World
+
+_PARTS = ("hip_yaw_pitch", "hip_roll", "hip_pitch", "knee_pitch", "ankle_pitch", "ankle_roll")
+
+
+@pytest.fixture(scope="module")
+def world() -> World:
+    return World()
+
+
+@pytest.fixture(scope="module")
+def walk_result(world):
+    return walk_trial(make_walk, distance_m=4.0, world=world)
+
+
+def test_agents_hide_their_references_and_name_their_team():
+    walk, kick = make_walk(), make_kick()
+    assert walk.team == kick.team == "other_team"
+    assert (walk.name, kick.name) == ("other_team_walk", "other_team_kick")
+    assert walk.reference_rad is None and kick.reference_rad is None
+    assert walk.period_s is not None and walk.period_s > 0
+    assert kick.period_s is None
+    assert len(kick.ball_offset_m) == 2 and kick.ball_offset_m[0] > 0
+
+
+@pytest.mark.parametrize("side,name", [(1.0, "left"), (-1.0, "right")])
+def test_ik_matches_mujoco_foot_pose_and_round_trips(world, side, name):
+    rng = np.random.default_rng(7)
+    idx = [joint_index(f"{name}_{p}") for p in _PARTS]
+    m, d = world.model, world.data
+    torso, foot = m.body("torso").id, m.body(f"{name}_foot").id
+    for _ in range(20):
+        q = np.array([rng.uniform(-0.6, 0.0), side * rng.uniform(-0.2, 0.3),
+                      rng.uniform(-0.2, 1.0), rng.uniform(-1.6, -0.1), rng.uniform(-0.5, 0.8),
+                      side * rng.uniform(-0.2, 0.3)])
+        angles = np.zeros(NUM_JOINTS)
+        angles[idx] = q
+        world.beam(0.0, 0.0, 0.3, angles)
+        r_torso = d.xmat[torso].reshape(3, 3)
+        pos_mj = r_torso.T @ (d.xpos[foot] - d.xpos[torso])
+        rot_mj = r_torso.T @ d.xmat[foot].reshape(3, 3)
+        pos, rot = leg_fk(side, q)
+        assert np.abs(pos - pos_mj).max() < 0.003
+        assert np.abs(rot - rot_mj).max() < 0.01
+        q_ik = leg_ik(side, pos_mj, rot_mj)
+        assert np.abs(q_ik - q).max() < 1e-6
+
+
+def test_walk_covers_4_m_fast_without_falling(walk_result):
+    r = walk_result
+    assert not r.fell
+    assert r.distance_m >= 4.0
+    assert r.speed_m_s >= 0.6
+    assert r.max_drift_m < 0.25
+
+
+def test_walk_is_periodic_at_steady_state(walk_result):
+    period_cycles = round(make_walk().period_s / CYCLE_S)
+    a = walk_result.angles_rad
+    last = a[-2 * period_cycles:]
+    first, second = last[:period_cycles], last[period_cycles:]
+    diff = np.abs(first - second).mean()
+    swing = np.abs(first - first.mean(0)).mean()
+    assert diff < 0.03, f"consecutive periods differ by {math.degrees(diff):.2f} deg on average"
+    assert swing > 3 * diff  # the legs really move
+
+
+def test_kick_sends_ball_3_m_and_robot_stays_up(world):
+    r = kick_trial(make_kick, seed=0, world=world)
+    assert r.distance_m >= 3.0
+    assert r.standing

@@ -1,0 +1,58 @@
+"""The other team's body layer: foot targets to 22 joint targets, targets to speed commands."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from mimic.agents.other_team.ik import leg_ik
+from mimic.agents.other_team.params import ServoParams
+from mimic.robot.joints import NUM_JOINTS, joint_index, lower_limits_rad, upper_limits_rad
+from mimic.robot.mjcf import MAX_JOINT_SPEED_RAD_S
+from mimic.world.world import CYCLE_S
+
+__all__ = ["LEG_IDX", "ARM_IDX", "legs_to_joints", "servo_speeds", "torso_pitch_roll"]
+
+_LEG_PARTS = ("hip_yaw_pitch", "hip_roll", "hip_pitch", "knee_pitch", "ankle_pitch", "ankle_roll")
+#: Joint-table indices of each leg's six joints, keyed by side (+1 left, -1 right).
+LEG_IDX = {s: np.array([joint_index(f"{n}_{p}") for p in _LEG_PARTS])
+           for s, n in ((1.0, "left"), (-1.0, "right"))}
+#: Joint-table indices of (shoulder pitch, shoulder roll), keyed by side.
+ARM_IDX = {s: np.array([joint_index(f"{n}_shoulder_pitch"), joint_index(f"{n}_shoulder_roll")])
+           for s, n in ((1.0, "left"), (-1.0, "right"))}
+
+
+def legs_to_joints(feet: dict[float, tuple[np.ndarray, np.ndarray]],
+                   shoulder_pitch_rad: float, shoulder_roll_rad: float) -> np.ndarray:
+    """(22,) joint targets [rad] for foot poses {side: (ankle point (3,), rotation (3, 3))}.
+
+    The poses are in the torso frame; the head is held straight and the arms still.
+    """
+    q = np.zeros(NUM_JOINTS)
+    for side, (pos, rot) in feet.items():
+        q[LEG_IDX[side]] = leg_ik(side, pos, rot)
+        q[ARM_IDX[side]] = (shoulder_pitch_rad, side * shoulder_roll_rad)
+    # Both yaw-pitch hinges stay equal on the real robot; here each leg keeps its own.
+    return np.clip(q, lower_limits_rad(), upper_limits_rad())
+
+
+def servo_speeds(target_next_rad: np.ndarray, angles_rad: np.ndarray,
+                 servo: ServoParams) -> np.ndarray:
+    """(22,) speeds [rad/s] that close ``gain`` of the gap to next cycle's targets, capped."""
+    speed = servo.gain * (target_next_rad - angles_rad) / CYCLE_S
+    return np.clip(speed, -MAX_JOINT_SPEED_RAD_S, MAX_JOINT_SPEED_RAD_S)
+
+
+def torso_pitch_roll(quat_wxyz: np.ndarray) -> tuple[float, float]:
+    """Torso pitch (positive: leaning forward) and roll (positive: leaning left) [rad].
+
+    Measured in the torso's heading frame, so they do not depend on where it faces.
+    """
+    w, x, y, z = quat_wxyz
+    # Torso z axis in the world (third column of the rotation) and the heading.
+    zx, zy, zz = 2 * (x * z + w * y), 2 * (y * z - w * x), 1 - 2 * (x * x + y * y)
+    yaw = math.atan2(2 * (w * z + x * y), 1 - 2 * (y * y + z * z))
+    c, s = math.cos(yaw), math.sin(yaw)
+    fwd, left = c * zx + s * zy, -s * zx + c * zy
+    return math.atan2(fwd, zz), math.atan2(left, zz)

@@ -1,0 +1,146 @@
+"""The other team's fast walk: a double linear inverted pendulum gait with short fixed steps.
+
+Feet are planned in a walk frame at the torso centre with the torso's heading but upright
+(x forward, y left, z up). In step n the support foot slides back linearly (the torso moves
+forward over it) while the swing foot travels forward on a cosine and lifts by
+0.5 (1 - cos(2 pi phase)); the torso shifts toward the support foot along the pendulum's
+cosh(k t) curve, k = sqrt(g / walk height). Step length is rate-limited (the start-up ramp);
+IMU tilt and roll feed back into the ankles and a heading error into the foot yaw. Step timing
+is fixed in whole 20 ms cycles, so the steady gait repeats exactly every two steps.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from mimic.agents.base import Agent
+from mimic.agents.other_team.ik import LEG, rot_y, rot_z
+from mimic.agents.other_team.motor import (LEG_IDX, legs_to_joints, servo_speeds,
+                                           torso_pitch_roll)
+from mimic.agents.other_team.params import WalkParams
+from mimic.robot.joints import NUM_JOINTS
+from mimic.world.world import CYCLE_S, Observation
+
+__all__ = ["OtherTeamWalk", "GRAVITY_M_S2"]
+
+GRAVITY_M_S2 = 9.81
+_MAX_TURN_RAD = 0.05
+
+
+class OtherTeamWalk(Agent):
+    """Walks straight ahead at ``params.speed_m_s`` from a standing start."""
+
+    name = "other_team_walk"
+    team = "other_team"
+
+    def __init__(self, params: WalkParams = WalkParams()) -> None:
+        super().__init__()
+        self.params = params
+        self.step_s = params.step_s(CYCLE_S)
+        self.period_s = 2 * self.step_s
+        self._k_m = math.sqrt(GRAVITY_M_S2 / params.walk_height_m)
+        self._startup_cycles = max(1, round(params.startup_s / CYCLE_S))
+        self._reset_state(np.zeros(NUM_JOINTS), 0.0)
+
+    # --- state ----------------------------------------------------------------------------
+    def _reset_state(self, start_rad: np.ndarray, yaw_rad: float) -> None:
+        self._cycle = 0
+        self._start_rad = np.asarray(start_rad, dtype=float).copy()
+        self._heading_rad = yaw_rad
+        self._step_index = -1
+        self._step_m = 0.0
+        self._turn_rad = 0.0
+        # Per foot: (x [m], yaw [rad]) where the current step began and where it will end.
+        self._from = {1.0: (0.0, 0.0), -1.0: (0.0, 0.0)}
+        self._to = dict(self._from)
+
+    def reset(self, obs: Observation) -> None:
+        self._reset_state(obs.joint_angles_rad, obs.torso_yaw_rad)
+        self.done = False
+
+    # --- gait -----------------------------------------------------------------------------
+    def _support(self, step_index: int) -> float:
+        """Support side of a step: the left foot (+1) carries the even steps."""
+        return 1.0 if step_index % 2 == 0 else -1.0
+
+    def _begin_step(self, n: int, obs: Observation) -> None:
+        p = self.params
+        self._step_index = n
+        target = min(p.max_step_m, p.speed_m_s * self.step_s)
+        self._step_m += float(np.clip(target - self._step_m, -p.step_ramp_m, p.step_ramp_m))
+        err = math.remainder(obs.torso_yaw_rad - self._heading_rad, 2 * math.pi)
+        self._turn_rad = float(np.clip(-p.yaw_gain * err, -_MAX_TURN_RAD, _MAX_TURN_RAD))
+        support = self._support(n)
+        self._from = dict(self._to)
+        self._to = {support: (-self._step_m / 2, -self._turn_rad / 2),
+                    -support: (self._step_m / 2, self._turn_rad / 2)}
+
+    def _sway_m(self, phase: float) -> float:
+        """Torso shift toward the support foot: pendulum cosh curve, 0 at both ends."""
+        half = self._k_m * self.step_s / 2
+        peak = math.cosh(half)
+        return self.params.sway_m * (peak - math.cosh(half * (2 * phase - 1))) / (peak - 1)
+
+    def _feet(self, phase: float, support: float) -> dict[float, tuple[np.ndarray, np.ndarray]]:
+        """Foot poses in the torso frame at ``phase`` in (0, 1] of the current step."""
+        p = self.params
+        lean = rot_y(p.lean_rad)  # torso orientation in the walk frame
+        sway = self._sway_m(phase) * support
+        feet = {}
+        for side in (1.0, -1.0):
+            (x0, a0), (x1, a1) = self._from[side], self._to[side]
+            if side == support:
+                s, lift = phase, 0.0
+            else:
+                swing = min(1.0, phase / p.swing_fraction)
+                s = 0.5 - 0.5 * math.cos(math.pi * swing)
+                lift = p.step_height_m * 0.5 * (1 - math.cos(2 * math.pi * swing))
+            hip_w = lean @ LEG.hip(side)
+            pos_w = np.array([p.foot_x_m + x0 + (x1 - x0) * s,
+                              hip_w[1] + side * p.foot_spread_m - sway,
+                              hip_w[2] - p.walk_height_m + lift])
+            yaw = a0 + (a1 - a0) * s
+            feet[side] = (lean.T @ pos_w, lean.T @ rot_z(yaw))
+        return feet
+
+    def _stance(self) -> np.ndarray:
+        p = self.params
+        self._from = {1.0: (0.0, 0.0), -1.0: (0.0, 0.0)}
+        self._to = dict(self._from)
+        return legs_to_joints(self._feet(0.0, 1.0), p.shoulder_pitch_rad, p.shoulder_roll_rad)
+
+    def targets_rad(self, obs: Observation) -> np.ndarray:
+        """(22,) joint targets [rad] for the end of this cycle (internal to the team)."""
+        p = self.params
+        k = self._cycle + 1
+        if k <= self._startup_cycles:
+            w = 0.5 - 0.5 * math.cos(math.pi * k / self._startup_cycles)
+            return (1 - w) * self._start_rad + w * self._stance()
+        c = k - self._startup_cycles - 1
+        n, j = divmod(c, p.step_cycles)
+        if n != self._step_index:
+            self._begin_step(n, obs)
+        support = self._support(n)
+        q = legs_to_joints(self._feet((j + 1) / p.step_cycles, support),
+                           p.shoulder_pitch_rad, p.shoulder_roll_rad)
+        pitch, roll = torso_pitch_roll(obs.torso_quat_wxyz)
+        # Gyro in the torso frame: +y tips it forward, +x tips it to the right.
+        d_pitch = p.pitch_gain * (pitch - p.lean_rad) + p.pitch_rate_gain * obs.gyro_rad_s[1]
+        d_roll = p.roll_gain * roll - p.roll_rate_gain * obs.gyro_rad_s[0]
+        for side in (1.0, -1.0):
+            idx = LEG_IDX[side]
+            ankle = 1.0 if side == support else 1.0 - p.hip_share
+            q[idx[4]] -= ankle * d_pitch
+            q[idx[5]] -= ankle * d_roll
+            if side != support:
+                # Swing hip: put the foot down where the torso is falling.
+                q[idx[2]] += p.hip_share * d_pitch
+                q[idx[1]] += p.hip_share * d_roll
+        return q
+
+    def act(self, obs: Observation) -> np.ndarray:
+        target = self.targets_rad(obs)
+        self._cycle += 1
+        return servo_speeds(target, obs.joint_angles_rad, self.params.servo)
