@@ -49,15 +49,21 @@ def _direction_error_rad(start_xy: np.ndarray, end_xy: np.ndarray) -> float:
     return float(math.acos(max(-1.0, min(1.0, cos))))
 
 
-def _place_for_kick(world: World, offset_m, rng, config: KickTrialConfig) -> None:
-    """Robot behind the ball at the centre spot, facing the opponent goal."""
+def _place_for_kick(world: World, offset_m, rng, config: KickTrialConfig,
+                    falls: FallCounter) -> None:
+    """Robot at the centre spot facing the opponent goal, settled in its stand; then the ball
+    at the kick's offset from the settled torso (the feet move a little while settling)."""
     yaw = rng.normal(0, config.start_noise_yaw_rad)
     dx, dy = offset_m
     x = -(dx * math.cos(yaw) - dy * math.sin(yaw)) + rng.normal(0, config.start_noise_pos_m)
     y = -(dx * math.sin(yaw) + dy * math.cos(yaw)) + rng.normal(0, config.start_noise_pos_m)
     pose = stand_pose_rad() + rng.normal(0, config.start_noise_joint_rad, size=22)
     world.beam(x, y, yaw, pose)
-    world.place_ball(0.0, 0.0)
+    world.place_ball(0.0, F.FIELD_WIDTH_M / 2 - 1.0)  # out of the way while settling
+    stand_still(world, max_s=0.5, falls=falls)
+    torso, yaw = world.torso_pos_m(), world.torso_yaw_rad()
+    world.place_ball(torso[0] + dx * math.cos(yaw) - dy * math.sin(yaw),
+                     torso[1] + dx * math.sin(yaw) + dy * math.cos(yaw))
 
 
 def _walk_to_ball(world: World, offset_m, falls: FallCounter, config: KickTrialConfig,
@@ -82,9 +88,8 @@ def run_kick_episode(kick: AgentSpec, seed: int, config: KickTrialConfig = KickT
     world = World()
     world.reset()
     offset = kick.ball_offset_m()
-    _place_for_kick(world, offset, rng, config)
     falls, clock = FallCounter(), EpisodeClock(config.episode_limit_s)
-    stand_still(world, max_s=0.5, falls=falls)
+    _place_for_kick(world, offset, rng, config, falls)
     rows: list[dict] = []
     end = "time limit"
     while clock.left_s(world) > 0:

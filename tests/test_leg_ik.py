@@ -1,0 +1,102 @@
+"""Leg IK: our forward kinematics matches MuJoCo; IK inverts it; unreachable targets clamp."""
+
+from __future__ import annotations
+
+import math
+
+import mujoco
+import numpy as np
+import pytest
+from hypothesis import assume, given, settings
+from hypothesis import strategies as st
+
+from mimic.robot.leg_ik import leg_fk, leg_geometry, leg_ik, leg_joint_indices, rpy_matrix, \
+    sole_to_ankle
+from mimic.world.world import World
+
+SIDES = ("left", "right")
+
+
+@pytest.fixture(scope="module")
+def world() -> World:
+    return World()
+
+
+def _angles_in_limits(side: str, u: list[float]) -> np.ndarray:
+    g = leg_geometry(side)
+    return g.lower_rad + np.asarray(u) * (g.upper_rad - g.lower_rad)
+
+
+@pytest.mark.parametrize("side", SIDES)
+def test_fk_matches_mujoco_bodies(world: World, side: str) -> None:
+    rng = np.random.default_rng(7)
+    m, d = world.model, world.data
+    foot = m.body(f"{side}_foot").id
+    for _ in range(20):
+        q = _angles_in_limits(side, rng.uniform(0, 1, 6))
+        d.qpos[:] = 0.0
+        d.qpos[3] = 1.0  # torso at the origin, identity orientation (qpos 0..6 = root)
+        full = np.zeros(22)
+        full[leg_joint_indices(side)] = q
+        d.qpos[world.qpos_idx] = full
+        mujoco.mj_kinematics(m, d)
+        p, r = leg_fk(side, q)
+        np.testing.assert_allclose(p, d.xpos[foot], atol=1e-9)
+        np.testing.assert_allclose(r, d.xmat[foot].reshape(3, 3), atol=1e-9)
+
+
+def test_stand_pose_foot_is_flat_under_the_hip() -> None:
+    q = np.radians([0, 0, 19, -40, 21, 0])
+    p, r = leg_fk("left", q)
+    np.testing.assert_allclose(r, np.eye(3), atol=1e-12)
+    assert abs(p[1] - leg_geometry("left").hip[1]) < 1e-12
+    assert -0.33 < p[2] < -0.32
+
+
+# Reachable workspace: random angles well inside the stops, away from the straight knee, and
+# with the hip no more than 60 deg off the foot's vertical (seen from the foot, a leg lying
+# along the sole leaves the ankle roll undefined: the roll singularity of this chain).
+@settings(max_examples=300, deadline=None)
+@given(side=st.sampled_from(SIDES),
+       u=st.lists(st.floats(0.02, 0.98), min_size=6, max_size=6),
+       knee=st.floats(-2.0, -0.15))
+def test_ik_inverts_fk(side: str, u: list[float], knee: float) -> None:
+    q = _angles_in_limits(side, u)
+    q[3] = knee
+    p, r = leg_fk(side, q)
+    up = r.T @ (leg_geometry(side).hip - p)
+    assume(up[2] > 0.5 * np.linalg.norm(up))
+    q2 = leg_ik(side, p, r, clip_to_limits=False)
+    p2, r2 = leg_fk(side, q2)
+    assert np.abs(p2 - p).max() < 1e-3
+    # Rotation error angle.
+    cos = (np.trace(r2.T @ r) - 1) / 2
+    assert math.acos(max(-1.0, min(1.0, cos))) < 0.01
+
+
+@settings(max_examples=200, deadline=None)
+@given(side=st.sampled_from(SIDES),
+       pos=st.lists(st.floats(-1.0, 1.0), min_size=3, max_size=3),
+       rpy=st.lists(st.floats(-math.pi, math.pi), min_size=3, max_size=3))
+def test_any_target_gives_finite_angles_within_limits(side, pos, rpy) -> None:
+    q = leg_ik(side, np.array(pos), rpy_matrix(*rpy))
+    g = leg_geometry(side)
+    assert np.all(np.isfinite(q))
+    assert np.all(q >= g.lower_rad - 1e-12) and np.all(q <= g.upper_rad + 1e-12)
+
+
+def test_out_of_reach_target_is_clamped_toward_it() -> None:
+    g = leg_geometry("left")
+    q = leg_ik("left", g.hip + np.array([0.0, 0.0, -1.0]))  # far below the hip
+    p, _ = leg_fk("left", q)
+    assert p[2] < g.hip[2] - 0.21  # leg (almost) straight, pointing down
+    assert abs(p[0] - g.hip[0]) < 0.02
+
+
+def test_sole_target_round_trip() -> None:
+    r = rpy_matrix(0.05, -0.1, 0.2)
+    sole = np.array([0.02, 0.06, -0.36])
+    ankle = sole_to_ankle("left", sole, r)
+    q = leg_ik("left", ankle, r)
+    p, r2 = leg_fk("left", q)
+    np.testing.assert_allclose(p + r2 @ leg_geometry("left").sole, sole, atol=1e-3)
