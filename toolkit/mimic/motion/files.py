@@ -11,8 +11,14 @@ Format (angles in degrees, simulator convention; ``#`` starts a comment)::
     step 0.2
     right_hip_pitch 40       # unlisted joints keep the previous keyframe's angle
 
-A file may instead say ``mirror_of kick_right``: the motion is the sagittal mirror of that one.
-The first keyframe starts from all zeros.
+A kick may say where the ball must lie before it starts: ``ball_offset 0.17 -0.07`` puts the
+ball centre 0.17 m ahead of and 0.07 m right of the torso centre (robot frame: x forward, y left,
+metres; the ball rests on the ground).
+
+A file may instead say ``mirror_of kick_right``: the motion is the sagittal mirror of that one
+(its ball offset too, with y negated).
+Joints unlisted in the first keyframe are 0; the player starts the first step from the robot's
+current pose.
 """
 
 from __future__ import annotations
@@ -46,6 +52,7 @@ def _set(angles: np.ndarray, name: str, degrees: float, where: str) -> None:
 def parse_motion(text: str, source: str = "<text>") -> Movement:
     """Parse a motion file's text; ``source`` names it in error messages."""
     name, rate, mirror_of = Path(source).stem, 1.0, None
+    ball_offset: tuple[float, float] | None = None
     steps: list[KeyframeStep] = []
     angles, time_s = np.zeros(len(JOINTS)), None
 
@@ -64,16 +71,21 @@ def parse_motion(text: str, source: str = "<text>") -> Movement:
                 name = args[0]
             elif key == "speed_rate" and len(args) == 1:
                 rate = float(args[0])
+            elif key == "ball_offset" and len(args) == 2:
+                ball_offset = (float(args[0]), float(args[1]))
             elif key == "mirror_of" and len(args) == 1:
                 mirror_of = args[0]
             elif key == "step" and len(args) == 1:
                 close_step()
                 time_s = float(args[0])
+                if not time_s >= 0:  # also refuses nan
+                    raise MotionFileError(f"{where}: step time must be >= 0 s, got {args[0]}")
             elif len(args) == 1 and time_s is not None:
                 _set(angles, key, float(args[0]), where)
             else:
                 raise MotionFileError(f"{where}: cannot read {raw.strip()!r}; expected "
-                                      "'step SECONDS' or 'JOINT DEGREES' (see mimic.motion.files)")
+                                      "'step SECONDS', 'JOINT DEGREES' or 'ball_offset X_M Y_M' "
+                                      "(see mimic.motion.files)")
         except UnknownJointError as err:
             raise MotionFileError(f"{where}: {err}") from None
         except ValueError:
@@ -82,21 +94,28 @@ def parse_motion(text: str, source: str = "<text>") -> Movement:
     if mirror_of is not None:
         base = load_motion(mirror_of)
         mirrored = tuple(KeyframeStep(mirror_angles(s.angles_rad), s.time_s) for s in base.steps)
-        return Movement(name, mirrored, base.speed_rate)
+        offset = base.ball_offset_m
+        return Movement(name, mirrored, base.speed_rate,
+                        None if offset is None else (offset[0], -offset[1]))
     if not steps:
         raise MotionFileError(f"{source}: no 'step' in the file; a motion needs at least one")
     try:
-        return Movement(name, tuple(steps), rate)
+        return Movement(name, tuple(steps), rate, ball_offset)
     except ValueError as err:
         raise MotionFileError(f"{source}: {err}") from None
 
 
 def format_motion(movement: Movement) -> str:
     """Text of a motion file that parses back to ``movement`` (every joint of every step)."""
-    lines = [f"motion {movement.name}", f"speed_rate {movement.speed_rate:g}"]
+    # repr() of a float reads back exactly; angles go through degrees, so 12 significant
+    # digits (back to within 1e-9 rad) keep them readable.
+    lines = [f"motion {movement.name}", f"speed_rate {float(movement.speed_rate)!r}"]
+    if movement.ball_offset_m is not None:
+        x, y = movement.ball_offset_m
+        lines.append(f"ball_offset {float(x)!r} {float(y)!r}")
     for step in movement.steps:
-        lines.append(f"step {step.time_s:g}")
-        lines += [f"{j.name} {math.degrees(a):.3f}" for j, a in zip(JOINTS, step.angles_rad)]
+        lines.append(f"step {float(step.time_s)!r}")
+        lines += [f"{j.name} {math.degrees(a):.12g}" for j, a in zip(JOINTS, step.angles_rad)]
     return "\n".join(lines) + "\n"
 
 

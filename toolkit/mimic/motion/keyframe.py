@@ -35,6 +35,14 @@ class KeyframeStep:
         if self.time_s < 0:
             raise ValueError(f"step time must be >= 0 s, got {self.time_s}")
 
+    def __eq__(self, other: object) -> bool:
+        # Angles compare to 1e-9 rad: a text round trip goes through degrees and may move
+        # the last bit, which no sensor or servo could ever tell apart.
+        if not isinstance(other, KeyframeStep):
+            return NotImplemented
+        return (abs(self.time_s - other.time_s) <= 1e-9
+                and bool(np.allclose(self.angles_rad, other.angles_rad, rtol=0.0, atol=1e-9)))
+
 
 @dataclass(frozen=True)
 class Movement:
@@ -44,11 +52,15 @@ class Movement:
         name: motion name, e.g. ``kick_right``.
         steps: the keyframe steps in order.
         speed_rate: r; every step time is divided by it (r = 2 plays twice as fast).
+        ball_offset_m: for a kick, where the ball centre should lie relative to the torso
+            before the motion starts: (x forward, y left) in the robot frame [m], ball on the
+            ground; None for motions that do not touch the ball.
     """
 
     name: str
     steps: tuple[KeyframeStep, ...]
     speed_rate: float = 1.0
+    ball_offset_m: tuple[float, float] | None = None
 
     def __post_init__(self) -> None:
         if not self.steps:
@@ -82,4 +94,4 @@ class Movement:
         return NaturalCubicSpline(times, keys)
 
     def with_speed_rate(self, speed_rate: float) -> "Movement":
-        return Movement(self.name, self.steps, speed_rate)
+        return Movement(self.name, self.steps, speed_rate, self.ball_offset_m)

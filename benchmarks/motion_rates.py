@@ -1,0 +1,49 @@
+"""Success rates of our keyframe motions over seeded, perturbed runs in the simulator.
+
+Run: /work/venv/bin/python benchmarks/motion_rates.py [runs]
+Kick success: ball at least 3 m forward and the robot standing 2 s after the motion.
+Get-up success: upright at the motion's end + 1 s. Start poses get small random perturbations
+(see mimic.motion.checks.Perturbation); seeds 0..runs-1.
+"""
+
+from __future__ import annotations
+
+import sys
+import time
+
+import numpy as np
+from rich.console import Console
+from rich.table import Table
+
+from mimic.motion.checks import run_getup, run_kick
+from mimic.motion.files import load_motion
+
+KICK_MIN_DISTANCE_M = 3.0
+
+
+def main(runs: int = 10) -> None:
+    table = Table(title=f"keyframe motions, {runs} seeded runs each")
+    for column in ("motion", "success", "falls", "distance mean (m)", "distance std (m)",
+                   "direction error mean (deg)", "time to upright mean (s)", "wall (s)"):
+        table.add_column(column)
+    for name in ("kick_right", "kick_left"):
+        start = time.perf_counter()
+        outs = [run_kick(load_motion(name), seed) for seed in range(runs)]
+        dist = np.array([o.distance_m for o in outs])
+        err = np.degrees([o.direction_error_rad for o in outs])
+        ok = sum(o.forward_m >= KICK_MIN_DISTANCE_M and o.standing_after for o in outs)
+        table.add_row(name, f"{ok}/{runs}", str(sum(not o.standing_after for o in outs)),
+                      f"{dist.mean():.2f}", f"{dist.std():.2f}", f"{np.nanmean(err):+.1f}", "-",
+                      f"{time.perf_counter() - start:.1f}")
+    for side in ("front", "back"):
+        start = time.perf_counter()
+        outs = [run_getup(load_motion(f"getup_{side}"), side, seed) for seed in range(runs)]
+        times = [o.time_to_upright_s for o in outs if o.upright]
+        table.add_row(f"getup_{side}", f"{sum(o.upright for o in outs)}/{runs}", "-", "-", "-",
+                      "-", f"{np.mean(times):.2f}" if times else "-",
+                      f"{time.perf_counter() - start:.1f}")
+    Console(width=140).print(table)
+
+
+if __name__ == "__main__":
+    main(int(sys.argv[1]) if len(sys.argv) > 1 else 10)
