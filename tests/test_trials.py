@@ -1,0 +1,77 @@
+"""The kick and walk trials: real episodes in the simulator, small budgets."""
+
+import json
+
+import polars as pl
+import pyarrow.parquet as pq
+import pytest
+from typer.testing import CliRunner
+
+from mimic.cli.main import app
+from mimic.trials.api import kick_trial, walk_trial
+from mimic.trials.parallel import derive_seed
+from mimic.trials.specs import AgentSpec, parse_agent_spec
+
+KICK_COLUMNS = {"variant", "attempts", "successful", "accuracy_pct", "mean_distance_m",
+                "std_distance_m", "goals", "falls", "getups", "stuck"}
+WALK_COLUMNS = {"variant", "runs", "mean_speed_m_s", "std_speed_m_s", "mean_y_error_m",
+                "std_y_error_m", "falls"}
+
+
+@pytest.fixture(scope="module")
+def kick_result(tmp_path_factory):
+    out = tmp_path_factory.mktemp("trial") / "kick.parquet"
+    return kick_trial([AgentSpec("motion", "kick_right")], minutes=2.0, seed=7, workers=2,
+                      out=out)
+
+
+def test_two_minute_kick_trial_counts_kicks_and_distances(kick_result):
+    summary = kick_result.summary.row(0, named=True)
+    assert KICK_COLUMNS <= set(kick_result.summary.columns)
+    assert summary["attempts"] >= 2
+    assert summary["simulated_min"] >= 2.0
+    kicks = kick_result.rows
+    assert (kicks["distance_m"] > 0.0).all()
+    assert (kicks["distance_m"] < 30.0).all()
+    # The kicks go toward the opponent goal, not anywhere.
+    assert kicks["direction_error_deg"].median() < 30.0
+    assert summary["successful"] == int((kicks["distance_m"] > 2.0).sum())
+
+
+def test_kick_trial_files_carry_configuration(kick_result):
+    parquet = kick_result.files[0]
+    meta = json.loads(pq.read_schema(parquet).metadata[b"mimic"])
+    assert meta["kind"] == "kick" and meta["seed"] == 7 and "toolkit_version" in meta
+    assert pl.read_parquet(parquet).height == kick_result.rows.height
+    assert any(f.suffix == ".md" for f in kick_result.files)
+
+
+def test_same_seed_same_table_whatever_the_workers(kick_result):
+    again = kick_trial([AgentSpec("motion", "kick_right")], minutes=2.0, seed=7, workers=1)
+    assert again.rows.drop("variant").equals(kick_result.rows.drop("variant"))
+
+
+def test_episode_seeds_differ_and_are_stable():
+    seeds = [derive_seed(3, i) for i in range(5)]
+    assert len(set(seeds)) == 5 and seeds == [derive_seed(3, i) for i in range(5)]
+
+
+def test_three_run_walk_trial_measures_speed_and_drift():
+    result = walk_trial([AgentSpec("agent", "walk")], runs=3, seed=1, workers=2)
+    assert WALK_COLUMNS <= set(result.summary.columns)
+    runs = result.rows
+    assert runs.height == 3
+    assert (runs["distance_m"] > 0.0).all(), "the robot walked forward"
+    assert (runs["speed_m_s"] < 1.5).all() and (runs["y_error_m"] < 5).all()
+    assert set(runs["end"]) <= {"finished", "fell", "timeout", "agent stopped"}
+    # A run that ended in a fall counts that fall; the summary adds every run's falls.
+    assert (runs.filter(pl.col("fell"))["falls"] >= 1).all()
+    assert result.summary["falls"][0] == runs["falls"].sum()
+
+
+def test_unknown_variant_is_one_clear_line():
+    result = CliRunner().invoke(app, ["trial", "kick", "--motion", "kik_right", "--minutes", "1"])
+    assert result.exit_code == 2
+    assert "unknown motion, model or agent 'kik_right'" in result.output
+    with pytest.raises(Exception, match="not found"):
+        parse_agent_spec("missing.mimic")
