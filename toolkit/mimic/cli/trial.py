@@ -15,15 +15,20 @@ from mimic.errors import MimicError
 trial_app = typer.Typer(help="Run the kick and walk trials (original and learned side by side).",
                         no_args_is_help=True)
 
-_COMPARE = typer.Option("--compare", "-c", help="Variants to compare (motion names, .mimic "
-                        "models, agent names); the first is the baseline for ratios.")
+_VARIANTS = typer.Argument(help="Variants to try side by side (motion names, .mimic models, "
+                           "agent names); the first is the baseline for ratios.", show_default=False)
+_COMPARE = typer.Option("--compare", "-c", help="Compare the variants given (the study's table "
+                        "with ratios); reads as: --compare kick_right models/kick_right.mimic.")
 _MOTION = typer.Option("--motion", help="One keyframe motion or agent name to try.")
 _MODEL = typer.Option("--model", help="One learned model (.mimic) to try.")
 
 
-def _specs(compare, motion, model, balance, speed_rate, default):
+def _specs(variants, compare, motion, model, balance, speed_rate, default):
     from mimic.trials.specs import parse_agent_spec
-    names = list(compare or []) + [n for n in (motion, model) if n]
+    names = list(variants or []) + [n for n in (motion, model) if n]
+    if compare and len(names) < 2:
+        raise MimicError("--compare needs at least two variants, e.g. "
+                         "--compare kick_right models/kick_right.mimic")
     if not names:
         names = [default]
     return [parse_agent_spec(n, balance=balance and n.endswith(".mimic"), speed_rate=speed_rate)
@@ -52,14 +57,27 @@ def _progress_bar(total_min: float | None, total_runs: int | None):
     return progress, update
 
 
+#: Columns of the printed table (all columns go to the files), with short headers.
+_SHOWN = {
+    "kick": {"variant": "variant", "attempts": "kicks", "successful": "ok", "accuracy_pct": "acc %",
+             "mean_distance_m": "dist m", "std_distance_m": "std m", "goals": "goals",
+             "falls": "falls", "stuck": "stuck", "accuracy_pct_ratio": "acc ratio",
+             "mean_distance_m_ratio": "dist ratio"},
+    "walk": {"variant": "variant", "runs": "runs", "mean_speed_m_s": "speed m/s",
+             "std_speed_m_s": "std", "mean_y_error_m": "Y err m", "std_y_error_m": "std",
+             "falls": "falls", "mean_speed_m_s_ratio": "speed ratio"},
+}
+
+
 def _print(result, title: str) -> None:
     table = Table(title=title)
-    cols = [c for c in result.summary.columns if c != "simulated_min"]
-    for c in cols:
-        table.add_column(c.replace("_", " "), justify="left" if c == "variant" else "right")
+    shown = {c: h for c, h in _SHOWN[result.kind].items() if c in result.summary.columns}
+    for c, header in shown.items():
+        table.add_column(header, justify="left" if c == "variant" else "right",
+                         no_wrap=c == "variant")
     for row in result.summary.iter_rows(named=True):
         table.add_row(*[f"{row[c]:.3g}" if isinstance(row[c], float) else str(row[c])
-                        for c in cols])
+                        for c in shown])
     console.print(table)
     for f in result.files:
         console.print(f"wrote {f}")
@@ -68,7 +86,8 @@ def _print(result, title: str) -> None:
 @trial_app.command("kick")
 @reports_errors
 def kick(
-    compare: Annotated[Optional[list[str]], _COMPARE] = None,
+    variants: Annotated[Optional[list[str]], _VARIANTS] = None,
+    compare: Annotated[bool, _COMPARE] = False,
     motion: Annotated[Optional[str], _MOTION] = None,
     model: Annotated[Optional[str], _MODEL] = None,
     minutes: Annotated[float, typer.Option(help="Simulated minutes per variant.")] = 30.0,
@@ -82,7 +101,7 @@ def kick(
     from mimic.trials.api import kick_trial
     if minutes <= 0:
         raise MimicError(f"--minutes must be > 0, got {minutes}")
-    specs = _specs(compare, motion, model, balance, 1.0, "kick_right")
+    specs = _specs(variants, compare, motion, model, balance, 1.0, "kick_right")
     progress, update = _progress_bar(minutes, None)
     with progress:
         result = kick_trial(specs, minutes=minutes, seed=seed, workers=workers, out=out,
@@ -97,7 +116,8 @@ def kick(
 @trial_app.command("walk")
 @reports_errors
 def walk(
-    compare: Annotated[Optional[list[str]], _COMPARE] = None,
+    variants: Annotated[Optional[list[str]], _VARIANTS] = None,
+    compare: Annotated[bool, _COMPARE] = False,
     motion: Annotated[Optional[str], _MOTION] = None,
     model: Annotated[Optional[str], _MODEL] = None,
     minutes: Annotated[Optional[float], typer.Option(help="Simulated minutes per variant.")] = None,
@@ -115,7 +135,7 @@ def walk(
         raise MimicError("give --minutes or --runs, not both")
     if (minutes is not None and minutes <= 0) or (runs is not None and runs <= 0):
         raise MimicError("--minutes and --runs must be > 0")
-    specs = _specs(compare, motion, model, balance, speed_rate, "walk")
+    specs = _specs(variants, compare, motion, model, balance, speed_rate, "walk")
     if minutes is None and runs is None:
         runs = 10
     progress, update = _progress_bar(minutes, runs)
