@@ -15,8 +15,6 @@ from mimic.robot.joints import lower_limits_rad, mirror_angles, upper_limits_rad
 
 #: Kick target: ball at least this far forward, robot standing 2 s after the motion [m].
 KICK_TARGET_M = 3.0
-KICK_DRAFT = pytest.mark.xfail(strict=True, reason="kick files are drafts: ~1.9 m and the robot "
-                               "stands after 6-7 runs in 10; remove this marker when they pass")
 GETUP_DRAFT = pytest.mark.xfail(strict=True, reason="getup files are drafts that do not yet "
                                 "stand the robot up; remove this marker when they do")
 
@@ -87,13 +85,11 @@ def test_kick_moves_the_ball_forward_along_the_heading(name, seed):
     assert abs(outcome.direction_error_rad) < math.radians(15), outcome
 
 
-@KICK_DRAFT
 @pytest.mark.parametrize("seed", [0, 1])
 def test_kick_right_sends_the_ball_3_m_and_stays_standing(seed):
     _assert_good_kick("kick_right", seed)
 
 
-@KICK_DRAFT
 def test_kick_left_sends_the_ball_3_m_and_stays_standing():
     _assert_good_kick("kick_left", 2)
 
@@ -114,7 +110,6 @@ def test_getup_stands_the_robot_up(side, seed):
 
 
 @pytest.mark.slow
-@KICK_DRAFT
 @pytest.mark.parametrize("name", ["kick_right", "kick_left"])
 def test_kick_rate_is_at_least_9_in_10(name):
     movement = load_motion(name)
