@@ -3,7 +3,8 @@
     /work/venv/bin/python benchmarks/other_team_walk.py [--walk-runs 3] [--kick-runs 5]
 
 Walk: 3 seeded runs (speed-command noise 0.05 rad/s, the first noise-free): speed after the
-first metre, largest lateral drift, falls. Kick: 5 seeded runs with small perturbations of the
+first metre, largest lateral drift, falls, and how much the last two gait periods' joint
+angles differ (mean absolute difference). Kick: 5 seeded runs with small perturbations of the
 start pose, ball position and commands: ball distance and whether the robot stands 2 s later.
 """
 
@@ -31,12 +32,16 @@ def main() -> None:
                   f"({round(walk.period_s / 2 / CYCLE_S)} cycles)")
     runs = [walk_trial(make_walk, 15.0, seed=s, speed_noise_rad_s=0.05 if s else 0.0,
                        world=world) for s in range(args.walk_runs)]
+    period = round(walk.period_s / CYCLE_S)
     t = Table(title="other team walk, 15 m")
-    for c in ("seed", "fell", "distance m", "speed m/s", "max drift m", "time s"):
+    for c in ("seed", "fell", "distance m", "speed m/s", "max drift m", "time s",
+              "last 2 periods differ deg"):
         t.add_column(c)
     for s, r in enumerate(runs):
+        last = r.angles_rad[-2 * period:]
+        diff = np.degrees(np.abs(last[:period] - last[period:]).mean())
         t.add_row(str(s), str(r.fell), f"{r.distance_m:.2f}", f"{r.speed_m_s:.3f}",
-                  f"{r.max_drift_m:.3f}", f"{r.time_s:.1f}")
+                  f"{r.max_drift_m:.3f}", f"{r.time_s:.1f}", f"{diff:.2f}")
     sp = np.array([r.speed_m_s for r in runs])
     t.add_row("all", f"{sum(r.fell for r in runs)}/{len(runs)}",
               f"{np.mean([r.distance_m for r in runs]):.2f}", f"{sp.mean():.3f} ± {sp.std():.3f}",

@@ -38,9 +38,16 @@ def legs_to_joints(feet: dict[float, tuple[np.ndarray, np.ndarray]],
 
 
 def servo_speeds(target_next_rad: np.ndarray, angles_rad: np.ndarray,
-                 servo: ServoParams) -> np.ndarray:
-    """(22,) speeds [rad/s] that close ``gain`` of the gap to next cycle's targets, capped."""
+                 servo: ServoParams, target_now_rad: np.ndarray | None = None) -> np.ndarray:
+    """(22,) speeds [rad/s] that close ``gain`` of the gap to next cycle's targets, capped.
+
+    With ``target_now_rad`` (this cycle's planned targets) the plan's own speed
+    (target_next - target_now) / cycle is added, scaled by ``servo.feedforward``, so a moving
+    target is followed without the lag of a purely proportional command.
+    """
     speed = servo.gain * (target_next_rad - angles_rad) / CYCLE_S
+    if target_now_rad is not None and servo.feedforward:
+        speed = speed + servo.feedforward * (target_next_rad - target_now_rad) / CYCLE_S
     return np.clip(speed, -MAX_JOINT_SPEED_RAD_S, MAX_JOINT_SPEED_RAD_S)
 
 

@@ -7,6 +7,11 @@ forward over it) while the swing foot travels forward on a cosine and lifts by
 cosh(k t) curve, k = sqrt(g / walk height). Step length is rate-limited (the start-up ramp);
 IMU tilt and roll feed back into the ankles and a heading error into the foot yaw. Step timing
 is fixed in whole 20 ms cycles, so the steady gait repeats exactly every two steps.
+
+Heading: once per step the foot yaw turns the torso toward an aim heading, which points back
+at the start line in proportion to the sideways offset (the team's localisation), so the
+walk stays on its line. Servo commands feed the planned joint speed forward on top of a
+soft proportional term, which keeps the legs close to the plan despite the servo lag.
 """
 
 from __future__ import annotations
@@ -27,6 +32,7 @@ __all__ = ["OtherTeamWalk", "GRAVITY_M_S2"]
 
 GRAVITY_M_S2 = 9.81
 _MAX_TURN_RAD = 0.05
+_MAX_AIM_RAD = 0.3
 
 
 class OtherTeamWalk(Agent):
@@ -45,9 +51,13 @@ class OtherTeamWalk(Agent):
         self._reset_state(np.zeros(NUM_JOINTS), 0.0)
 
     # --- state ----------------------------------------------------------------------------
-    def _reset_state(self, start_rad: np.ndarray, yaw_rad: float) -> None:
+    def _reset_state(self, start_rad: np.ndarray, yaw_rad: float,
+                     xy_m: tuple[float, float] = (0.0, 0.0)) -> None:
         self._cycle = 0
+        self._start_xy_m = xy_m
         self._start_rad = np.asarray(start_rad, dtype=float).copy()
+        # Planned (feedback-free) targets of the last cycle [rad], for the servo feed-forward.
+        self._nominal_rad = self._start_rad.copy()
         self._heading_rad = yaw_rad
         self._step_index = -1
         self._step_m = 0.0
@@ -57,7 +67,8 @@ class OtherTeamWalk(Agent):
         self._to = dict(self._from)
 
     def reset(self, obs: Observation) -> None:
-        self._reset_state(obs.joint_angles_rad, obs.torso_yaw_rad)
+        self._reset_state(obs.joint_angles_rad, obs.torso_yaw_rad,
+                          (float(obs.torso_pos_m[0]), float(obs.torso_pos_m[1])))
         self.done = False
 
     # --- gait -----------------------------------------------------------------------------
@@ -70,7 +81,11 @@ class OtherTeamWalk(Agent):
         self._step_index = n
         target = min(p.max_step_m, p.speed_m_s * self.step_s)
         self._step_m += float(np.clip(target - self._step_m, -p.step_ramp_m, p.step_ramp_m))
-        err = math.remainder(obs.torso_yaw_rad - self._heading_rad, 2 * math.pi)
+        # Steer back toward the start line: aim the heading at it, in proportion to the offset.
+        off_m = (-math.sin(self._heading_rad) * (obs.torso_pos_m[0] - self._start_xy_m[0])
+                 + math.cos(self._heading_rad) * (obs.torso_pos_m[1] - self._start_xy_m[1]))
+        aim = self._heading_rad - float(np.clip(p.line_gain * off_m, -_MAX_AIM_RAD, _MAX_AIM_RAD))
+        err = math.remainder(obs.torso_yaw_rad - aim, 2 * math.pi)
         self._turn_rad = float(np.clip(-p.yaw_gain * err, -_MAX_TURN_RAD, _MAX_TURN_RAD))
         support = self._support(n)
         self._from = dict(self._to)
@@ -117,7 +132,8 @@ class OtherTeamWalk(Agent):
         k = self._cycle + 1
         if k <= self._startup_cycles:
             w = 0.5 - 0.5 * math.cos(math.pi * k / self._startup_cycles)
-            return (1 - w) * self._start_rad + w * self._stance()
+            self._nominal_rad = (1 - w) * self._start_rad + w * self._stance()
+            return self._nominal_rad.copy()
         c = k - self._startup_cycles - 1
         n, j = divmod(c, p.step_cycles)
         if n != self._step_index:
@@ -125,6 +141,7 @@ class OtherTeamWalk(Agent):
         support = self._support(n)
         q = legs_to_joints(self._feet((j + 1) / p.step_cycles, support),
                            p.shoulder_pitch_rad, p.shoulder_roll_rad)
+        self._nominal_rad = q.copy()
         pitch, roll = torso_pitch_roll(obs.torso_quat_wxyz)
         # Gyro in the torso frame: +y tips it forward, +x tips it to the right.
         d_pitch = p.pitch_gain * (pitch - p.lean_rad) + p.pitch_rate_gain * obs.gyro_rad_s[1]
@@ -141,6 +158,9 @@ class OtherTeamWalk(Agent):
         return q
 
     def act(self, obs: Observation) -> np.ndarray:
+        planned_now = self._nominal_rad
         target = self.targets_rad(obs)
         self._cycle += 1
-        return servo_speeds(target, obs.joint_angles_rad, self.params.servo)
+        # Feed forward the plan's own speed only: the IMU feedback is too noisy to differentiate.
+        return servo_speeds(target, obs.joint_angles_rad, self.params.servo,
+                            target_now_rad=planned_now + (target - self._nominal_rad))
