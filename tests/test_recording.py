@@ -147,15 +147,8 @@ def test_registry_names_and_errors():
         make_agent("moonwalk")
 
 
-def _rerun() -> str | None:
-    venv_bin = Path(__file__).resolve().parents[2] / "venv" / "bin" / "rerun"
-    return str(venv_bin) if venv_bin.exists() else shutil.which("rerun")
-
-
-def test_rerun_imports_joint_plots_and_the_robot(stand_file, tmp_path):
-    rerun = _rerun()
-    if rerun is None:
-        pytest.skip("the rerun binary is not installed")
+def test_rerun_imports_joint_plots_and_the_robot(stand_file, tmp_path, rerun_cli):
+    rerun = rerun_cli
     rrd = tmp_path / "stand.rrd"
     env = {"RERUN_ANALYTICS": "off", "PATH": "/usr/bin:/bin"}
     # `rerun mcap convert` runs the same importer as `rerun FILE.mcap --save`, without a server

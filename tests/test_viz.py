@@ -1,6 +1,5 @@
 """What the Rerun views contain, read back from the saved .rrd with the `rerun` CLI."""
 
-import shutil
 import subprocess
 from pathlib import Path
 
@@ -13,15 +12,7 @@ from mimic.viz.gait import centre_of_mass_path
 from mimic.viz.recording import view_recording
 
 
-def _rerun() -> str | None:
-    venv_bin = Path(__file__).resolve().parents[2] / "venv" / "bin" / "rerun"
-    return str(venv_bin) if venv_bin.exists() else shutil.which("rerun")
-
-
-def rrd_text(path: Path) -> str:
-    rerun = _rerun()
-    if rerun is None:
-        pytest.skip("the rerun binary is not installed")
+def rrd_text(rerun: str, path: Path) -> str:
     return subprocess.run([rerun, "rrd", "print", str(path)], check=True, capture_output=True,
                           text=True, env={"RERUN_ANALYTICS": "off", "PATH": "/usr/bin:/bin"},
                           timeout=120).stdout
@@ -34,11 +25,11 @@ def stand_recording(tmp_path_factory):
     return out
 
 
-def test_view_has_robot_field_and_grouped_curves(stand_recording, tmp_path):
+def test_view_has_robot_field_and_grouped_curves(stand_recording, tmp_path, rerun_cli):
     rrd = tmp_path / "view.rrd"
     logged = view_recording(stand_recording, save=rrd)
     assert logged["series"] == ["reached", "reference"]
-    text = rrd_text(rrd)
+    text = rrd_text(rerun_cli, rrd)
     for group, joint in (("head", "head_yaw"), ("arms", "left_elbow_roll"),
                          ("legs", "right_knee_pitch")):
         assert f"/joints/{group}/{joint}/reached" in text

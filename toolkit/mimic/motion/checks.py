@@ -16,7 +16,7 @@ import numpy as np
 from mimic.agents.keyframe_player import KeyframePlayer
 from mimic.agents.tracking import TrackingController
 from mimic.errors import MotionFileError
-from mimic.motion.files import load_motion
+from mimic.motion.files import load_motion, stand_pose_rad
 from mimic.motion.keyframe import Movement
 from mimic.robot.joints import NUM_JOINTS, lower_limits_rad, upper_limits_rad
 from mimic.runner import run_agent
@@ -77,11 +77,6 @@ class GetupOutcome:
 
     upright: bool
     time_to_upright_s: float | None
-
-
-def stand_pose_rad() -> np.ndarray:
-    """(22,) the stand motion's final keyframe [rad]: the pose every motion starts from."""
-    return load_motion("stand").steps[-1].angles_rad.copy()
 
 
 def _noisy_pose(rng: np.random.Generator, pose: np.ndarray, p: Perturbation) -> np.ndarray:

@@ -33,7 +33,8 @@ from mimic.errors import MotionFileError
 from mimic.motion.keyframe import KeyframeStep, Movement
 from mimic.robot.joints import JOINTS, UnknownJointError, joint_index, mirror_angles
 
-__all__ = ["parse_motion", "format_motion", "load_motion", "list_motions", "MOTIONS_DIR"]
+__all__ = ["parse_motion", "format_motion", "load_motion", "list_motions", "stand_pose_rad",
+           "MOTIONS_DIR"]
 
 MOTIONS_DIR = resources.files("mimic.motion") / "motions"
 
@@ -135,3 +136,9 @@ def load_motion(name_or_path: str | Path) -> Movement:
         raise MotionFileError(f"unknown motion {str(name_or_path)!r}; shipped motions: "
                               f"{', '.join(list_motions())} (or give a path to a .txt file)")
     return parse_motion(shipped.read_text(), f"{name_or_path}.txt")
+
+
+def stand_pose_rad() -> np.ndarray:
+    """(22,) the ``stand`` motion's final keyframe [rad]: the pose every motion starts from and
+    returns to (a fresh copy)."""
+    return load_motion("stand").steps[-1].angles_rad.copy()

@@ -153,9 +153,9 @@ def record(agent: str | Agent, out_path: str | Path, *, duration_s: float | None
 
     world = World()
     world.reset()
-    from mimic.motion.files import load_motion
+    from mimic.motion.files import stand_pose_rad
 
-    stand = load_motion("stand").steps[-1].angles_rad
+    stand = stand_pose_rad()
     x0, y0, yaw0 = config.start_x_m, config.start_y_m, config.start_yaw_rad
     world.beam(x0, y0, yaw0, stand)
     offset = _ball_offset(agent, own, ball_offset_m)

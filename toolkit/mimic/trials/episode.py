@@ -10,16 +10,11 @@ import numpy as np
 
 from mimic.agents.base import Agent
 from mimic.agents.keyframe_player import KeyframePlayer
-from mimic.motion.files import load_motion
+from mimic.motion.files import load_motion, stand_pose_rad
 from mimic.world.world import CYCLE_S, World
 
 __all__ = ["EpisodeClock", "FallCounter", "stand_pose_rad", "run_until", "stand_still",
            "get_up", "lying_side"]
-
-
-def stand_pose_rad() -> np.ndarray:
-    """(22,) the ``stand`` motion's final keyframe [rad]."""
-    return load_motion("stand").steps[-1].angles_rad.copy()
 
 
 @dataclass

@@ -16,7 +16,7 @@ import numpy as np
 from mimic.agents.base import Agent
 from mimic.agents.tracking import TrackingController
 from mimic.agents.walk.gait import StepPlan, WalkConfig, feet_at, nominal_foot, plan_step
-from mimic.motion.files import load_motion
+from mimic.motion.files import stand_pose_rad
 from mimic.robot.joints import joint_index
 from mimic.robot.leg_ik import leg_ik, leg_joint_indices
 from mimic.robot.mjcf import MAX_JOINT_SPEED_RAD_S
@@ -27,11 +27,6 @@ __all__ = ["WalkEngine", "stand_pose_rad", "torso_pitch_roll"]
 _LEGS = (leg_joint_indices("left"), leg_joint_indices("right"))
 _SIDES = ("left", "right")
 _SHOULDERS = (joint_index("left_shoulder_pitch"), joint_index("right_shoulder_pitch"))
-
-
-def stand_pose_rad() -> np.ndarray:
-    """(22,) the ``stand`` motion's final keyframe [rad]."""
-    return load_motion("stand").steps[-1].angles_rad.copy()
 
 
 def torso_pitch_roll(q_wxyz: np.ndarray) -> tuple[float, float]:
