@@ -1,7 +1,6 @@
 """Recordings: write, read back, foreign joint names, clear errors, truncated files, Rerun."""
 
 import math
-import shutil
 import subprocess
 from pathlib import Path
 
