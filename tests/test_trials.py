@@ -1,6 +1,9 @@
 """The kick and walk trials: real episodes in the simulator, small budgets."""
 
 import json
+import subprocess
+
+import numpy as np
 
 import polars as pl
 import pyarrow.parquet as pq
@@ -11,6 +14,7 @@ from mimic.cli.main import app
 from mimic.trials.api import kick_trial, walk_trial
 from mimic.trials.parallel import derive_seed
 from mimic.trials.specs import AgentSpec, parse_agent_spec
+from mimic.viz.trials import save_trial_dashboard
 
 KICK_COLUMNS = {"variant", "attempts", "successful", "accuracy_pct", "mean_distance_m",
                 "std_distance_m", "goals", "falls", "getups", "stuck"}
@@ -22,7 +26,7 @@ WALK_COLUMNS = {"variant", "runs", "mean_speed_m_s", "std_speed_m_s", "mean_y_er
 def kick_result(tmp_path_factory):
     out = tmp_path_factory.mktemp("trial") / "kick.parquet"
     return kick_trial([AgentSpec("motion", "kick_right")], minutes=2.0, seed=7, workers=2,
-                      out=out)
+                      out=out, trace=True)
 
 
 def test_two_minute_kick_trial_counts_kicks_and_distances(kick_result):
@@ -49,6 +53,24 @@ def test_kick_trial_files_carry_configuration(kick_result):
 def test_same_seed_same_table_whatever_the_workers(kick_result):
     again = kick_trial([AgentSpec("motion", "kick_right")], minutes=2.0, seed=7, workers=1)
     assert again.rows.drop("variant").equals(kick_result.rows.drop("variant"))
+
+
+def test_dashboard_replays_the_first_episode_in_3d(kick_result, tmp_path, rerun_cli):
+    trace = kick_result.traces["kick_right"]
+    # The trace is the episode as it happened: time runs forward, the ball left the centre spot.
+    assert (np.diff(trace.times_s) > 0).all()
+    assert np.linalg.norm(trace.ball_pos_m[-1, :2] - trace.ball_pos_m[0, :2]) > 2.0
+    torso = trace.poses()["torso"][0]
+    assert torso[0, 2] > 0.3, "the episode starts with the robot standing"
+    rrd = tmp_path / "kick.rrd"
+    save_trial_dashboard(kick_result, rrd)
+    text = subprocess.run([rerun_cli, "rrd", "print", str(rrd)], check=True, capture_output=True,
+                          text=True, timeout=120).stdout
+    assert "/world/replay/kick_right/robot/torso - data columns: [Transform3D" in text
+    assert "/world/replay/kick_right/ball - data columns: [Transform3D" in text
+    assert "/world/replay/kick_right/robot/left_foot/shape" in text
+    assert "/histogram/kick_right" in text and "/trial/running_accuracy_pct/kick_right" in text
+    assert "/episodes/kick_right" in text
 
 
 def test_episode_seeds_differ_and_are_stable():

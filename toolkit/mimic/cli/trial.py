@@ -21,6 +21,9 @@ _COMPARE = typer.Option("--compare", "-c", help="Compare the variants given (the
                         "with ratios); reads as: --compare kick_right models/kick_right.mimic.")
 _MOTION = typer.Option("--motion", help="One keyframe motion or agent name to try.")
 _MODEL = typer.Option("--model", help="One learned model (.mimic) to try.")
+_SAVE_RRD = typer.Option(help="Save a Rerun dashboard (.rrd): curves, histogram, episode "
+                         "markers, the first episode of each variant in 3D.")
+_RERUN = typer.Option("--rerun", help="Open the same dashboard in a Rerun viewer.")
 
 
 def _specs(variants, compare, motion, model, balance, speed_rate, default):
@@ -83,6 +86,20 @@ def _print(result, title: str) -> None:
         console.print(f"wrote {f}")
 
 
+def _dashboard(result, save_rrd: Path | None, rerun: bool) -> None:
+    from mimic.viz.trials import save_trial_dashboard, show_trial_dashboard
+    if save_rrd:
+        save_trial_dashboard(result, save_rrd)
+        console.print(f"wrote {save_rrd}")
+    if rerun:
+        try:
+            show_trial_dashboard(result)
+        except Exception as exc:  # no viewer binary or no display: the tables stand anyway
+            reason = (str(exc).strip().splitlines() or [type(exc).__name__])[0]
+            raise MimicError(f"could not open a Rerun viewer ({reason}); use --save-rrd FILE and "
+                             "open it with `rerun FILE` where a display is available") from exc
+
+
 @trial_app.command("kick")
 @reports_errors
 def kick(
@@ -95,7 +112,8 @@ def kick(
     workers: Annotated[Optional[int], typer.Option(help="Worker processes (default: all cores).")] = None,
     balance: Annotated[bool, typer.Option(help="Wrap learned motions in balance feedback.")] = False,
     out: Annotated[Optional[Path], typer.Option("--out", "-o", help="Parquet file of every kick.")] = None,
-    save_rrd: Annotated[Optional[Path], typer.Option(help="Save a Rerun dashboard (.rrd).")] = None,
+    save_rrd: Annotated[Optional[Path], _SAVE_RRD] = None,
+    rerun: Annotated[bool, _RERUN] = False,
 ) -> None:
     """Kick trial: kick toward the goal, walk to the ball, kick again until a goal; repeat."""
     from mimic.trials.api import kick_trial
@@ -105,12 +123,9 @@ def kick(
     progress, update = _progress_bar(minutes, None)
     with progress:
         result = kick_trial(specs, minutes=minutes, seed=seed, workers=workers, out=out,
-                            progress=update)
+                            progress=update, trace=bool(save_rrd or rerun))
     _print(result, f"kick trial, {minutes:g} simulated min per variant, seed {seed}")
-    if save_rrd:
-        from mimic.viz.trials import save_trial_dashboard
-        save_trial_dashboard(result, save_rrd)
-        console.print(f"wrote {save_rrd}")
+    _dashboard(result, save_rrd, rerun)
 
 
 @trial_app.command("walk")
@@ -127,7 +142,8 @@ def walk(
     balance: Annotated[bool, typer.Option(help="Wrap learned motions in balance feedback.")] = False,
     speed_rate: Annotated[float, typer.Option(help="Phase-rate multiplier for learned cyclic motions.")] = 1.0,
     out: Annotated[Optional[Path], typer.Option("--out", "-o", help="Parquet file of every run.")] = None,
-    save_rrd: Annotated[Optional[Path], typer.Option(help="Save a Rerun dashboard (.rrd).")] = None,
+    save_rrd: Annotated[Optional[Path], _SAVE_RRD] = None,
+    rerun: Annotated[bool, _RERUN] = False,
 ) -> None:
     """Walk trial: from the own goal line to the centre line (15 m), repeated."""
     from mimic.trials.api import walk_trial
@@ -141,12 +157,9 @@ def walk(
     progress, update = _progress_bar(minutes, runs)
     with progress:
         result = walk_trial(specs, minutes=minutes, runs=runs, seed=seed, workers=workers,
-                            out=out, progress=update)
+                            out=out, progress=update, trace=bool(save_rrd or rerun))
     _print(result, f"walk trial (15 m), seed {seed}")
-    if save_rrd:
-        from mimic.viz.trials import save_trial_dashboard
-        save_trial_dashboard(result, save_rrd)
-        console.print(f"wrote {save_rrd}")
+    _dashboard(result, save_rrd, rerun)
 
 
 def register(app: typer.Typer) -> None:

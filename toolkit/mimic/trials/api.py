@@ -25,23 +25,30 @@ class TrialResult:
     rows: pl.DataFrame
     summary: pl.DataFrame
     files: list[Path] = field(default_factory=list)
+    # The first episode of each variant as a pose trace (``trials.trace.EpisodeTrace``), when
+    # the trial ran with ``trace=True``: the robot and ball replayed in the Rerun dashboard.
+    traces: dict = field(default_factory=dict)
 
 
 def _run(kind: str, episode_fn: Callable, summarise: Callable, specs: list[AgentSpec], config,
          *, minutes: float | None, runs: int | None, seed: int, workers: int | None,
-         out: Path | None, progress: Callable[[str, EpisodeBatch], None] | None) -> TrialResult:
-    frames, rows = [], []
+         out: Path | None, progress: Callable[[str, EpisodeBatch], None] | None,
+         trace: bool) -> TrialResult:
+    frames, rows, traces = [], [], {}
     for spec in specs:
         batch = run_episodes(episode_fn, spec, config,
                              budget_s=None if minutes is None else minutes * 60,
                              episodes=runs, seed=seed, workers=workers,
-                             progress=(lambda b, s=spec: progress(s.label, b)) if progress else None)
+                             progress=(lambda b, s=spec: progress(s.label, b)) if progress else None,
+                             trace_episodes=1 if trace else 0)
+        if 0 in batch.traces:
+            traces[spec.label] = batch.traces[0]
         rows.append(summarise(spec.label, batch))
         if batch.rows:
             frames.append(pl.DataFrame(batch.rows).with_columns(pl.lit(spec.label).alias("variant")))
     summary = with_ratios(pl.DataFrame(rows))
     table = pl.concat(frames, how="diagonal_relaxed") if frames else pl.DataFrame()
-    result = TrialResult(kind, table, summary)
+    result = TrialResult(kind, table, summary, traces=traces)
     if out is not None:
         meta = dict(kind=kind, minutes=minutes, runs=runs, seed=seed,
                     variants=[asdict(s) for s in specs], config=asdict(config))
@@ -52,17 +59,25 @@ def _run(kind: str, episode_fn: Callable, summarise: Callable, specs: list[Agent
 
 def kick_trial(specs: list[AgentSpec], *, minutes: float = 30.0, seed: int = 0,
                workers: int | None = None, out: Path | None = None,
-               config: KickTrialConfig = KickTrialConfig(), progress=None) -> TrialResult:
-    """Kick trial of each variant for ``minutes`` simulated minutes under the same seeds."""
+               config: KickTrialConfig = KickTrialConfig(), progress=None,
+               trace: bool = False) -> TrialResult:
+    """Kick trial of each variant for ``minutes`` simulated minutes under the same seeds.
+
+    ``trace``: keep the first episode of each variant as a pose trace (``result.traces``).
+    """
     return _run("kick", run_kick_episode, kick_summary, specs, config, minutes=minutes, runs=None,
-                seed=seed, workers=workers, out=out, progress=progress)
+                seed=seed, workers=workers, out=out, progress=progress, trace=trace)
 
 
 def walk_trial(specs: list[AgentSpec], *, minutes: float | None = None, runs: int | None = None,
                seed: int = 0, workers: int | None = None, out: Path | None = None,
-               config: WalkTrialConfig = WalkTrialConfig(), progress=None) -> TrialResult:
-    """Walk trial (own goal line to centre line) of each variant, by minutes or run count."""
+               config: WalkTrialConfig = WalkTrialConfig(), progress=None,
+               trace: bool = False) -> TrialResult:
+    """Walk trial (own goal line to centre line) of each variant, by minutes or run count.
+
+    ``trace``: keep the first run of each variant as a pose trace (``result.traces``).
+    """
     if minutes is None and runs is None:
         runs = 10
     return _run("walk", run_walk_episode, walk_summary, specs, config, minutes=minutes, runs=runs,
-                seed=seed, workers=workers, out=out, progress=progress)
+                seed=seed, workers=workers, out=out, progress=progress, trace=trace)

@@ -12,6 +12,7 @@ import numpy as np
 from mimic.trials.episode import EpisodeClock, FallCounter, get_up, run_until, stand_pose_rad, \
     stand_still
 from mimic.trials.specs import AgentSpec
+from mimic.trials.trace import TracingWorld
 from mimic.world import field as F
 from mimic.world.world import World
 
@@ -37,6 +38,8 @@ class KickTrialConfig:
     start_noise_pos_m: float = 0.01
     start_noise_yaw_rad: float = math.radians(2)
     start_noise_joint_rad: float = math.radians(1)
+    # Keep a pose trace of the episode (robot bodies and ball) for the Rerun replay.
+    trace: bool = False
 
 
 def _direction_error_rad(start_xy: np.ndarray, end_xy: np.ndarray) -> float:
@@ -85,7 +88,7 @@ def run_kick_episode(kick: AgentSpec, seed: int, config: KickTrialConfig = KickT
                      ) -> tuple[list[dict], dict]:
     """Play one episode; returns (one row per kick, the episode's summary row)."""
     rng = np.random.default_rng(seed)
-    world = World()
+    world = TracingWorld() if config.trace else World()
     world.reset()
     offset = kick.ball_offset_m()
     falls, clock = FallCounter(), EpisodeClock(config.episode_limit_s)
@@ -137,6 +140,8 @@ def run_kick_episode(kick: AgentSpec, seed: int, config: KickTrialConfig = KickT
     summary = dict(seed=seed, duration_s=world.time_s, kicks=len(rows),
                    goals=int(any(r["goal"] for r in rows)), falls=falls.falls,
                    getups=falls.getups, end=end, stuck=end == "stuck")
+    if config.trace:
+        summary["trace"] = world.trace()
     return rows, summary
 
 

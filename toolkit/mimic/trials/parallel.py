@@ -7,11 +7,12 @@ whatever the number of workers.
 
 from __future__ import annotations
 
+import dataclasses
 import multiprocessing as mp
 import os
 from collections import deque
 from concurrent.futures import ProcessPoolExecutor
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Callable
 
 import numpy as np
@@ -34,6 +35,15 @@ class EpisodeBatch:
 
     rows: list[dict]
     episodes: list[dict]
+    # Pose traces of the traced episodes, by episode index (see ``trials.trace``).
+    traces: dict = field(default_factory=dict)
+
+    def add(self, rows: list[dict], summary: dict) -> None:
+        trace = summary.pop("trace", None)
+        if trace is not None:
+            self.traces[summary["episode"]] = trace
+        self.rows += rows
+        self.episodes.append(summary)
 
     @property
     def simulated_s(self) -> float:
@@ -51,9 +61,14 @@ def _call(job):
 
 def run_episodes(func: Callable, spec, config, *, budget_s: float | None = None,
                  episodes: int | None = None, seed: int = 0, workers: int | None = None,
-                 progress: Callable[[EpisodeBatch], None] | None = None) -> EpisodeBatch:
+                 progress: Callable[[EpisodeBatch], None] | None = None,
+                 trace_episodes: int = 0) -> EpisodeBatch:
     """Run ``func(spec, seed, config) -> (rows, summary)`` episodes until ``budget_s`` of
-    simulated time (summary['duration_s']) is reached, or exactly ``episodes`` episodes."""
+    simulated time (summary['duration_s']) is reached, or exactly ``episodes`` episodes.
+
+    The first ``trace_episodes`` episodes run with ``config.trace = True`` (the config must
+    have that field); their ``summary['trace']`` goes to ``batch.traces``.
+    """
     if (budget_s is None) == (episodes is None):
         raise ValueError("give exactly one of budget_s and episodes")
     workers = workers or default_workers()
@@ -67,15 +82,14 @@ def run_episodes(func: Callable, spec, config, *, budget_s: float | None = None,
     def jobs():
         i = 0
         while episodes is None or i < episodes:
-            yield (func, spec, derive_seed(seed, i), config, i)
+            traced = dataclasses.replace(config, trace=True) if i < trace_episodes else config
+            yield (func, spec, derive_seed(seed, i), traced, i)
             i += 1
 
     job_iter = jobs()
     if workers <= 1:
         for job in job_iter:
-            rows, summary = _call(job)
-            batch.rows += rows
-            batch.episodes.append(summary)
+            batch.add(*_call(job))
             if progress:
                 progress(batch)
             if enough():
@@ -88,9 +102,7 @@ def run_episodes(func: Callable, spec, config, *, budget_s: float | None = None,
             if job is not None:
                 pending.append(pool.submit(_call, job))
         while pending and not enough():
-            rows, summary = pending.popleft().result()
-            batch.rows += rows
-            batch.episodes.append(summary)
+            batch.add(*pending.popleft().result())
             if progress:
                 progress(batch)
             if not enough():

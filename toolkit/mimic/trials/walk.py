@@ -9,6 +9,7 @@ import numpy as np
 
 from mimic.trials.episode import FallCounter, run_until, stand_pose_rad, stand_still
 from mimic.trials.specs import AgentSpec
+from mimic.trials.trace import TracingWorld
 from mimic.world import field as F
 from mimic.world.world import World
 
@@ -28,13 +29,15 @@ class WalkTrialConfig:
     start_noise_pos_m: float = 0.01
     start_noise_yaw_rad: float = math.radians(1)
     start_noise_joint_rad: float = math.radians(0.5)
+    # Keep a pose trace of the episode (robot bodies and ball) for the Rerun replay.
+    trace: bool = False
 
 
 def run_walk_episode(walk: AgentSpec, seed: int, config: WalkTrialConfig = WalkTrialConfig()
                      ) -> tuple[list[dict], dict]:
     """One run; returns ([the run's row], the same row as summary) for the shared runner."""
     rng = np.random.default_rng(seed)
-    world = World()
+    world = TracingWorld() if config.trace else World()
     world.reset()
     y0 = rng.normal(0, config.start_noise_pos_m)
     world.beam(config.start_x_m + rng.normal(0, config.start_noise_pos_m), y0,
@@ -57,4 +60,5 @@ def run_walk_episode(walk: AgentSpec, seed: int, config: WalkTrialConfig = WalkT
                finished=outcome == "stop", fell=outcome == "fell", falls=falls.falls,
                end={"stop": "finished", "fell": "fell", "timeout": "timeout",
                     "done": "agent stopped"}[outcome])
-    return [row], row
+    summary = dict(row, trace=world.trace()) if config.trace else row
+    return [row], summary

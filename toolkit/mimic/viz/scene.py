@@ -9,7 +9,8 @@ from mimic.robot.description import BODIES
 from mimic.viz.paths import BALL, ROBOT, WORLD, time_column
 from mimic.world import field as F
 
-__all__ = ["log_field", "log_robot_geometry", "log_body_poses", "log_ball_poses"]
+__all__ = ["log_field", "log_robot_geometry", "log_body_poses", "log_ball_shape",
+           "log_ball_poses"]
 
 _ROBOT_COLOUR = (210, 210, 225)
 _JOINT_COLOUR = (70, 70, 80)
@@ -34,7 +35,12 @@ def log_field(rec: rr.RecordingStream) -> None:
         rec.log(f"{WORLD}/field/{name}",
                 rr.Boxes3D(centers=[centre], half_sizes=[half], colors=(255, 230, 50)),
                 static=True)
-    rec.log(f"{BALL}/shape", rr.Ellipsoids3D(half_sizes=[[F.BALL_RADIUS_M] * 3],
+    log_ball_shape(rec)
+
+
+def log_ball_shape(rec: rr.RecordingStream, path: str = BALL) -> None:
+    """The ball's static sphere at ``path`` (its pose is logged on the same path)."""
+    rec.log(f"{path}/shape", rr.Ellipsoids3D(half_sizes=[[F.BALL_RADIUS_M] * 3],
                                              colors=(255, 128, 0), fill_mode="solid"),
             static=True)
 
@@ -72,7 +78,8 @@ def log_body_poses(rec: rr.RecordingStream, times_s: np.ndarray,
                              translation=pos, quaternion=np.asarray(quat_wxyz)[:, [1, 2, 3, 0]]))
 
 
-def log_ball_poses(rec: rr.RecordingStream, times_s: np.ndarray, positions_m: np.ndarray) -> None:
+def log_ball_poses(rec: rr.RecordingStream, times_s: np.ndarray, positions_m: np.ndarray,
+                   path: str = BALL) -> None:
     """Ball centre (N, 3) [m] over time."""
-    rec.send_columns(BALL, indexes=[time_column(times_s)],
+    rec.send_columns(path, indexes=[time_column(times_s)],
                      columns=rr.Transform3D.columns(translation=positions_m))

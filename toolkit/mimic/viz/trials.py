@@ -1,5 +1,6 @@
 """Trial dashboards: kick-distance histograms, running accuracy, episode markers, where the
-ball ended up on the field; walk speeds and lateral errors per run."""
+ball ended up on the field; walk speeds and lateral errors per run; and the first episode of
+each variant replayed in 3D (robot and ball on the field), one view per variant."""
 
 from __future__ import annotations
 
@@ -10,11 +11,14 @@ import polars as pl
 import rerun as rr
 import rerun.blueprint as rrb
 
-from mimic.viz.scene import log_field
+from mimic.viz.paths import WORLD
+from mimic.viz.scene import log_ball_poses, log_ball_shape, log_body_poses, log_field, \
+    log_robot_geometry
 
-__all__ = ["log_trial", "save_trial_dashboard"]
+__all__ = ["log_trial", "trial_blueprint", "save_trial_dashboard", "show_trial_dashboard"]
 
 _EVENT = "event"
+_REPLAY = f"{WORLD}/replay"
 
 
 def _slug(label: str) -> str:
@@ -50,12 +54,23 @@ def _log_walks(rec: rr.RecordingStream, name: str, runs: pl.DataFrame) -> None:
     rec.log(f"histogram/{name}", rr.BarChart(counts), static=True)
 
 
+def _log_replay(rec: rr.RecordingStream, name: str, trace) -> None:
+    """One traced episode (``trials.trace.EpisodeTrace``) on the ``sim_time`` timeline."""
+    root = f"{_REPLAY}/{name}"
+    log_robot_geometry(rec, f"{root}/robot")
+    log_body_poses(rec, trace.times_s, trace.poses(), f"{root}/robot")
+    log_ball_shape(rec, f"{root}/ball")
+    log_ball_poses(rec, trace.times_s, trace.ball_pos_m, f"{root}/ball")
+
+
 def log_trial(rec: rr.RecordingStream, result) -> None:
     """Everything of a ``TrialResult`` onto ``rec``."""
     log_field(rec)
     for label in result.rows["variant"].unique(maintain_order=True):
         part = result.rows.filter(pl.col("variant") == label)
         (_log_kicks if result.kind == "kick" else _log_walks)(rec, _slug(label), part)
+    for label, trace in result.traces.items():
+        _log_replay(rec, _slug(label), trace)
     rec.log("summary", rr.TextDocument(_markdown(result.summary), media_type="text/markdown"),
             static=True)
 
@@ -65,18 +80,37 @@ def _markdown(summary: pl.DataFrame) -> str:
     return to_markdown(summary)
 
 
-def save_trial_dashboard(result, path: Path) -> None:
-    """Write the dashboard of a trial to an .rrd file with its blueprint."""
-    rec = rr.RecordingStream("mimic_trial")
+def trial_blueprint(result) -> rrb.Blueprint:
+    """Curves and the summary on the left; the field with where the balls ended, one 3D replay
+    per traced variant, the distance or speed histogram and episode markers on the right."""
     views = [rrb.TimeSeriesView(origin=f"trial/{m}", name=m) for m in
              (("distance_m", "running_accuracy_pct") if result.kind == "kick"
               else ("speed_m_s", "y_error_m"))]
-    blueprint = rrb.Blueprint(rrb.Horizontal(
+    field = [rrb.Spatial3DView(origin=WORLD, name="field",
+                               contents=[f"{WORLD}/field/**", f"{WORLD}/ball_ends/**"])]
+    replays = [rrb.Spatial3DView(origin=WORLD, name=f"first episode: {label}",
+                                 contents=[f"{WORLD}/field/**", f"{_REPLAY}/{_slug(label)}/**"])
+               for label in result.traces]
+    return rrb.Blueprint(rrb.Horizontal(
         rrb.Vertical(*views, rrb.TextDocumentView(origin="summary")),
-        rrb.Vertical(rrb.Spatial3DView(origin="world", name="field"),
+        rrb.Vertical(rrb.Tabs(*field, *replays),
                      rrb.BarChartView(origin="histogram", name="histogram"),
                      rrb.TextLogView(origin="episodes")),
     ))
-    rec.save(str(path), default_blueprint=blueprint)
+
+
+def save_trial_dashboard(result, path: Path) -> None:
+    """Write the dashboard of a trial to an .rrd file with its blueprint."""
+    rec = rr.RecordingStream("mimic_trial")
+    rec.save(str(path), default_blueprint=trial_blueprint(result))
+    log_trial(rec, result)
+    rec.flush()
+    rec.disconnect()
+
+
+def show_trial_dashboard(result) -> None:
+    """Open the dashboard in a Rerun viewer (spawned, or the one already running)."""
+    rec = rr.RecordingStream("mimic_trial")
+    rec.spawn(default_blueprint=trial_blueprint(result))
     log_trial(rec, result)
     rec.flush()
