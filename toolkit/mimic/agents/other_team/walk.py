@@ -31,7 +31,6 @@ from mimic.world.world import CYCLE_S, Observation
 __all__ = ["OtherTeamWalk", "GRAVITY_M_S2"]
 
 GRAVITY_M_S2 = 9.81
-_MAX_TURN_RAD = 0.05
 _MAX_AIM_RAD = 0.3
 
 
@@ -86,7 +85,7 @@ class OtherTeamWalk(Agent):
                  + math.cos(self._heading_rad) * (obs.torso_pos_m[1] - self._start_xy_m[1]))
         aim = self._heading_rad - float(np.clip(p.line_gain * off_m, -_MAX_AIM_RAD, _MAX_AIM_RAD))
         err = math.remainder(obs.torso_yaw_rad - aim, 2 * math.pi)
-        self._turn_rad = float(np.clip(-p.yaw_gain * err, -_MAX_TURN_RAD, _MAX_TURN_RAD))
+        self._turn_rad = float(np.clip(-p.yaw_gain * err, -p.max_turn_rad, p.max_turn_rad))
         support = self._support(n)
         self._from = dict(self._to)
         self._to = {support: (-self._step_m / 2, -self._turn_rad / 2),
