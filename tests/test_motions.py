@@ -10,13 +10,12 @@ import pytest
 
 from mimic.errors import MotionFileError
 from mimic.motion.checks import run_getup, run_kick, run_stand
-from mimic.motion.files import format_motion, list_motions, load_motion, parse_motion
+from mimic.motion.files import (format_motion, list_motions, load_motion, parse_motion,
+                                stand_pose_rad)
 from mimic.robot.joints import lower_limits_rad, mirror_angles, upper_limits_rad
 
 #: Kick target: ball at least this far forward, robot standing 2 s after the motion [m].
 KICK_TARGET_M = 3.0
-GETUP_DRAFT = pytest.mark.xfail(strict=True, reason="getup files are drafts that do not yet "
-                                "stand the robot up; remove this marker when they do")
 
 
 def test_stand_holds_for_60_s():
@@ -99,7 +98,6 @@ def test_a_kick_without_ball_offset_is_refused():
         run_kick(load_motion("stand"), 0)
 
 
-@GETUP_DRAFT
 @pytest.mark.parametrize("side", ["front", "back"])
 @pytest.mark.parametrize("seed", [0, 1])
 def test_getup_stands_the_robot_up(side, seed):
@@ -107,6 +105,13 @@ def test_getup_stands_the_robot_up(side, seed):
     outcome = run_getup(movement, side, seed)
     assert outcome.upright, outcome
     assert outcome.time_to_upright_s <= movement.duration_s + 1.0
+
+
+@pytest.mark.parametrize("side", ["front", "back"])
+def test_getup_ends_in_the_stand_pose(side):
+    # So that ``stand`` or a walk can take over from the last keyframe.
+    last = load_motion(f"getup_{side}").steps[-1].angles_rad
+    np.testing.assert_allclose(last, stand_pose_rad(), rtol=0.0, atol=1e-9)
 
 
 @pytest.mark.slow
@@ -119,7 +124,6 @@ def test_kick_rate_is_at_least_9_in_10(name):
 
 
 @pytest.mark.slow
-@GETUP_DRAFT
 @pytest.mark.parametrize("side", ["front", "back"])
 def test_getup_rate_is_at_least_9_in_10(side):
     movement = load_motion(f"getup_{side}")
