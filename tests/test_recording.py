@@ -9,12 +9,12 @@ import polars as pl
 import pytest
 
 from mimic.agents.registry import agent_names, make_agent
-from mimic.errors import MimicError, RecordingError
-from mimic.motion.files import load_motion
+from mimic.errors import MimicError, MotionFileError, RecordingError
+from mimic.motion.files import format_motion, load_motion, parse_motion
 from mimic.recording import layout as L
 from mimic.recording.reader import (describe_recording, read_joint_table, read_recording,
                                     read_tf)
-from mimic.recording.recorder import record
+from mimic.recording.recorder import RecordConfig, record
 from mimic.recording.writer import RecordingWriter
 from mimic.robot.joints import JOINT_NAMES, SIM_NAMES
 
@@ -67,6 +67,24 @@ def test_tf_places_feet_on_the_ground_and_the_ball_aside(stand_file):
     assert tf[L.BALL_FRAME].pos_m[-1, 2] == pytest.approx(0.042, abs=0.005)
     raw = read_tf(stand_file, in_world=False)
     assert raw["left_thigh"].parent == "left_hip2" and raw["torso"].parent == L.WORLD_FRAME
+
+
+def test_get_up_is_recorded_from_lying_to_standing(tmp_path):
+    path = tmp_path / "getup_front.mcap"
+    record("getup_front", path, config=RecordConfig(tf_every=5))
+    rec = read_recording(path)
+    assert rec.info.start_posture == "lying_front"
+    torso_z = read_tf(path)["torso"].pos_m[:, 2]
+    assert torso_z[0] < 0.15, "the recording starts with the robot lying"
+    assert torso_z[-1] > 0.28, "and ends with it standing"
+
+
+def test_motion_file_start_posture_round_trips():
+    movement = load_motion("getup_back")
+    assert movement.start_posture == "lying_back"
+    assert parse_motion(format_motion(movement)).start_posture == "lying_back"
+    with pytest.raises(MotionFileError, match="start must be one of"):
+        parse_motion("start sitting\nstep 1\nhead_yaw 0\n", "bad.txt")
 
 
 def _write_foreign(path: Path, names, rows, times_ns, ended=None):

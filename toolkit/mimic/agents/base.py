@@ -22,6 +22,9 @@ class Agent(ABC):
     team: str = "mimic"
     #: Period [s] of a cyclic motion (a walk), or None for a one-shot motion.
     period_s: float | None = None
+    #: How the robot must be set up before the agent starts: ``standing``, ``lying_front`` or
+    #: ``lying_back`` (get-ups); see ``mimic.motion.keyframe.START_POSTURES``.
+    start_posture: str = "standing"
 
     def __init__(self) -> None:
         self.done = False

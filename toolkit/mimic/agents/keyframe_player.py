@@ -23,6 +23,7 @@ class KeyframePlayer(Agent):
         super().__init__()
         self.movement, self.tracking, self.hold_s = movement, tracking, hold_s
         self.name = movement.name
+        self.start_posture = movement.start_posture
         self._start_s = 0.0
         self._spline = movement.spline()
 

@@ -15,6 +15,9 @@ A kick may say where the ball must lie before it starts: ``ball_offset 0.17 -0.0
 ball centre 0.17 m ahead of and 0.07 m right of the torso centre (robot frame: x forward, y left,
 metres; the ball rests on the ground).
 
+A get-up says how it starts: ``start lying_front`` (or ``lying_back``; default ``standing``);
+recorders and checks lay the robot down that way first.
+
 A file may instead say ``mirror_of kick_right``: the motion is the sagittal mirror of that one
 (its ball offset too, with y negated).
 Joints unlisted in the first keyframe are 0; the player starts the first step from the robot's
@@ -30,7 +33,7 @@ from pathlib import Path
 import numpy as np
 
 from mimic.errors import MotionFileError
-from mimic.motion.keyframe import KeyframeStep, Movement
+from mimic.motion.keyframe import START_POSTURES, KeyframeStep, Movement
 from mimic.robot.joints import JOINTS, UnknownJointError, joint_index, mirror_angles
 
 __all__ = ["parse_motion", "format_motion", "load_motion", "list_motions", "stand_pose_rad",
@@ -52,7 +55,7 @@ def _set(angles: np.ndarray, name: str, degrees: float, where: str) -> None:
 
 def parse_motion(text: str, source: str = "<text>") -> Movement:
     """Parse a motion file's text; ``source`` names it in error messages."""
-    name, rate, mirror_of = Path(source).stem, 1.0, None
+    name, rate, mirror_of, posture = Path(source).stem, 1.0, None, "standing"
     ball_offset: tuple[float, float] | None = None
     steps: list[KeyframeStep] = []
     angles, time_s = np.zeros(len(JOINTS)), None
@@ -74,6 +77,11 @@ def parse_motion(text: str, source: str = "<text>") -> Movement:
                 rate = float(args[0])
             elif key == "ball_offset" and len(args) == 2:
                 ball_offset = (float(args[0]), float(args[1]))
+            elif key == "start" and len(args) == 1:
+                if args[0] not in START_POSTURES:
+                    raise MotionFileError(f"{where}: start must be one of "
+                                          f"{', '.join(START_POSTURES)}, got {args[0]!r}")
+                posture = args[0]
             elif key == "mirror_of" and len(args) == 1:
                 mirror_of = args[0]
             elif key == "step" and len(args) == 1:
@@ -85,7 +93,8 @@ def parse_motion(text: str, source: str = "<text>") -> Movement:
                 _set(angles, key, float(args[0]), where)
             else:
                 raise MotionFileError(f"{where}: cannot read {raw.strip()!r}; expected "
-                                      "'step SECONDS', 'JOINT DEGREES' or 'ball_offset X_M Y_M' "
+                                      "'step SECONDS', 'JOINT DEGREES', 'ball_offset X_M Y_M' or "
+                                      "'start POSTURE' "
                                       "(see mimic.motion.files)")
         except UnknownJointError as err:
             raise MotionFileError(f"{where}: {err}") from None
@@ -97,11 +106,11 @@ def parse_motion(text: str, source: str = "<text>") -> Movement:
         mirrored = tuple(KeyframeStep(mirror_angles(s.angles_rad), s.time_s) for s in base.steps)
         offset = base.ball_offset_m
         return Movement(name, mirrored, base.speed_rate,
-                        None if offset is None else (offset[0], -offset[1]))
+                        None if offset is None else (offset[0], -offset[1]), base.start_posture)
     if not steps:
         raise MotionFileError(f"{source}: no 'step' in the file; a motion needs at least one")
     try:
-        return Movement(name, tuple(steps), rate, ball_offset)
+        return Movement(name, tuple(steps), rate, ball_offset, posture)
     except ValueError as err:
         raise MotionFileError(f"{source}: {err}") from None
 
@@ -114,6 +123,8 @@ def format_motion(movement: Movement) -> str:
     if movement.ball_offset_m is not None:
         x, y = movement.ball_offset_m
         lines.append(f"ball_offset {float(x)!r} {float(y)!r}")
+    if movement.start_posture != "standing":
+        lines.append(f"start {movement.start_posture}")
     for step in movement.steps:
         lines.append(f"step {float(step.time_s)!r}")
         lines += [f"{j.name} {math.degrees(a):.12g}" for j, a in zip(JOINTS, step.angles_rad)]

@@ -44,6 +44,10 @@ class KeyframeStep:
                 and bool(np.allclose(self.angles_rad, other.angles_rad, rtol=0.0, atol=1e-9)))
 
 
+#: How a motion may start: on the feet, or lying on the front or the back (``World.beam``).
+START_POSTURES = ("standing", "lying_front", "lying_back")
+
+
 @dataclass(frozen=True)
 class Movement:
     """Keyframe steps played at a speed rate.
@@ -55,16 +59,23 @@ class Movement:
         ball_offset_m: for a kick, where the ball centre should lie relative to the torso
             before the motion starts: (x forward, y left) in the robot frame [m], ball on the
             ground; None for motions that do not touch the ball.
+        start_posture: how the robot lies or stands when the motion starts: ``standing``,
+            ``lying_front`` or ``lying_back`` (the get-ups); recorders and checks set the
+            robot up this way.
     """
 
     name: str
     steps: tuple[KeyframeStep, ...]
     speed_rate: float = 1.0
     ball_offset_m: tuple[float, float] | None = None
+    start_posture: str = "standing"
 
     def __post_init__(self) -> None:
         if not self.steps:
             raise ValueError(f"motion {self.name!r} has no steps")
+        if self.start_posture not in START_POSTURES:
+            raise ValueError(f"start posture must be one of {', '.join(START_POSTURES)}, "
+                             f"got {self.start_posture!r}")
         if self.speed_rate <= 0:
             raise ValueError(f"speed rate must be > 0, got {self.speed_rate}")
 
@@ -94,4 +105,5 @@ class Movement:
         return NaturalCubicSpline(times, keys)
 
     def with_speed_rate(self, speed_rate: float) -> "Movement":
-        return Movement(self.name, self.steps, speed_rate, self.ball_offset_m)
+        return Movement(self.name, self.steps, speed_rate, self.ball_offset_m,
+                        self.start_posture)

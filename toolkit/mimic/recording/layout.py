@@ -75,6 +75,8 @@ class RecordingInfo:
     period_s: float | None = None
     # Ball position relative to the robot (robot frame: x forward, y left) [m], or None.
     ball_offset_m: tuple[float, float] | None = None
+    # How the robot started: ``standing``, ``lying_front`` or ``lying_back`` (get-ups).
+    start_posture: str = "standing"
     # Anything else worth keeping (text values).
     extra: dict[str, str] = field(default_factory=dict)
 
@@ -107,7 +109,8 @@ class RecordingInfo:
         return cls(**kwargs, extra=extra)
 
 
-_TEXT_FIELDS = {"motion", "agent", "team", "source", "robot_model", "toolkit_version"}
+_TEXT_FIELDS = {"motion", "agent", "team", "source", "robot_model", "toolkit_version",
+                "start_posture"}
 
 _TIME = """MSG: builtin_interfaces/Time
 int32 sec

@@ -157,7 +157,9 @@ def record(agent: str | Agent, out_path: str | Path, *, duration_s: float | None
 
     stand = stand_pose_rad()
     x0, y0, yaw0 = config.start_x_m, config.start_y_m, config.start_yaw_rad
-    world.beam(x0, y0, yaw0, stand)
+    posture = agent.start_posture
+    world.beam(x0, y0, yaw0, stand,
+               lying=posture.removeprefix("lying_") if posture != "standing" else None)
     offset = _ball_offset(agent, own, ball_offset_m)
     if offset is not None:
         c, s = math.cos(yaw0), math.sin(yaw0)
@@ -169,7 +171,7 @@ def record(agent: str | Agent, out_path: str | Path, *, duration_s: float | None
         motion=agent.name, agent=type(agent).__name__, team=agent.team,
         source="observed" if observe_only else "reference", control_rate_hz=1.0 / CYCLE_S,
         cycle_s=CYCLE_S, toolkit_version=__version__, seed=seed, period_s=period_s,
-        ball_offset_m=offset)
+        ball_offset_m=offset, start_posture=posture)
     if period_s is not None:
         periods = max(1, round((duration_s or config.default_periods * period_s) / period_s))
         planned_cycles = int(round(periods * period_s / CYCLE_S))
