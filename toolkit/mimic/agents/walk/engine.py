@@ -1,10 +1,26 @@
 """Our omnidirectional walk engine: LIPM foot trajectories, leg IK, IMU feedback.
 
-Each cycle the engine advances the step phase, places both feet in the level walk frame
-(``gait.feet_at``), tilts them into the torso frame by the torso lean, solves both legs with
-the closed-form IK, adds gyro / tilt feedback on ankles and hips, and tracks the references
-with the proportional ``TrackingController`` plus a feed-forward term (the reference's own
-speed over the cycle), so the speed-capped joints do not lag the gait by 1/gain.
+Each 20 ms cycle the engine advances the step phase (a step lasts a whole number of cycles),
+places both feet in the level walk frame (``gait.feet_at``), tilts them into the torso frame
+by the torso lean, solves both legs with the closed-form IK, adds IMU feedback (torso tilt
+onto the swing hip and the ankles, gyro damping onto the ankles), and tracks the references
+with the proportional ``TrackingController`` plus a feed-forward term: the planned
+(feedback-free) reference's own speed over the cycle, so the speed-capped joints do not lag
+the gait by 1/gain, while the noisy IMU feedback is never differentiated.
+
+Step-level feedback: the torso pitch at each step start lengthens or shortens the step
+(capture the fall), and a step that rocked the torso hard (tilt above ``caution_tilt_rad``)
+makes the next one shorter and straight. Every planned joint reference is rate-limited to
+what the speed-capped servos can follow.
+
+Heading is held from the torso orientation averaged over the last gait period (the commanded
+yaw rate integrates into a desired heading, with anti-windup); while walking straight the
+desired heading also points back at the line walked so far (from the localisation estimate
+``torso_pos_m``), so the lateral drift stays bounded.
+
+Stop: the steps ramp down to zero, the feet close at the nominal stance, the robot holds
+the walk stance on both feet with balance feedback (``halt_settle_s``), then blends into
+the stand pose (``mimic.motion.files.stand_pose_rad``), from which the keyframe kicks start.
 """
 
 from __future__ import annotations
@@ -61,18 +77,18 @@ class WalkEngine(Agent):
 
     States: ``starting`` (blend from the pose at reset into the walk posture), ``walking``,
     ``halting`` (last steps done, blend into the stand pose), ``standing`` (hold the stand
-    pose; ``done`` is True). A new ``set_velocity`` restarts walking from any state.
+    pose; ``done`` is True). A new non-zero ``set_velocity`` restarts walking from any state.
     """
 
     name = "walk"
     team = "mimic"
 
     def __init__(self, config: WalkConfig = WalkConfig(),
-                 tracking: TrackingController = TrackingController()) -> None:
+                 tracking: TrackingController | None = None) -> None:
         super().__init__()
         self.config = config
-        self.tracking = tracking
-        self.period_s = 2 * config.step_s
+        self.tracking = tracking or TrackingController(gain_per_s=config.tracking_gain_per_s)
+        self.period_s = 2 * config.step_time_s
         self._stand = stand_pose_rad()
         self._velocity = np.zeros(3)
         self._stop_requested = False
@@ -82,8 +98,14 @@ class WalkEngine(Agent):
 
     # --- commands -------------------------------------------------------------------------
     def set_velocity(self, vx_m_s: float, vy_m_s: float = 0.0, yaw_rate_rad_s: float = 0.0) -> None:
-        """Walk at this velocity in the robot frame [m/s, m/s, rad/s] (ramped, clipped)."""
-        self._velocity = np.array([vx_m_s, vy_m_s, yaw_rate_rad_s], dtype=float)
+        """Walk at this velocity in the robot frame [m/s, m/s, rad/s] (ramped, clipped).
+
+        An all-zero velocity keeps stepping in place; ``stop()`` ends the walk.
+        """
+        velocity = np.array([vx_m_s, vy_m_s, yaw_rate_rad_s], dtype=float)
+        if velocity[2] != self._velocity[2] or velocity[1] != self._velocity[1]:
+            self._line = None  # a new path: hold the line from where the robot is
+        self._velocity = velocity
         self._stop_requested = False
         if self._state in ("halting", "standing"):
             self._begin("starting")
@@ -92,9 +114,12 @@ class WalkEngine(Agent):
         """Finish walking: ramp the steps down, then settle into the stand pose."""
         self._velocity = np.zeros(3)
         self._stop_requested = True
+        if self._state == "starting":
+            self._begin("halting")
 
     @property
     def state(self) -> str:
+        """``starting``, ``walking``, ``halting`` or ``standing``."""
         return self._state
 
     @property
@@ -106,8 +131,6 @@ class WalkEngine(Agent):
     def reset(self, obs: Observation) -> None:
         """Re-initialise from the current pose (e.g. after a get-up): blend into the walk."""
         self._init_state(obs.joint_angles_rad)
-        self._last_time_s = obs.time_s
-        self._heading_rad = obs.torso_yaw_rad
         if self._stop_requested and not np.any(self._velocity):
             self._begin("halting")
         else:
@@ -117,47 +140,92 @@ class WalkEngine(Agent):
         cfg = self.config
         feet = np.array([nominal_foot(cfg, 0), nominal_foot(cfg, 1)])
         self._plan = StepPlan(0, feet, feet.copy(), np.zeros(3))
-        self._phase = 0.0
+        self._cycle_in_step = 0
         self._step_cmd = np.zeros(3)
+        self._step_base = np.zeros(3)
+        self._pitch_state = (0.0, 0.0)
+        self._peak_tilt = 0.0
         self._blend_from = np.asarray(pose, dtype=float).copy()
         self._blend_t = 0.0
-        self._last_time_s = None
+        self._prev_nominal = None
         self._prev_ref = None
         self._heading_rad = None
-        self._yaw_rad = 0.0
+        self._line = None
+        self._yaw_history: list[tuple[float, float]] = []
         self.done = False
 
     def _begin(self, state: str) -> None:
+        self._state_before = self._state
         self._state = state
         self._blend_t = 0.0
         if state == "starting":
             self.done = False
-        if state == "halting" and self._prev_ref is not None:
-            self._blend_from = self._prev_ref.copy()
+            if self._prev_ref is not None:
+                self._blend_from = self._prev_ref.copy()  # restart from where the joints are
+        if state == "halting":
+            self._halt_from_walk = self._state_before == "walking"
+            if self._halt_from_walk:
+                self._halt_hold = self._walk_pose(self._plan.end, self._lean())
+            else:
+                self._halt_hold = (self._prev_ref if self._prev_ref is not None
+                                   else self._blend_from).copy()
 
     def act(self, obs: Observation) -> np.ndarray:
         cfg = self.config
-        dt = CYCLE_S
-        if self._last_time_s is not None and obs.time_s > self._last_time_s:
-            dt = obs.time_s - self._last_time_s
-        self._last_time_s = obs.time_s
-        self._yaw_rad = obs.torso_yaw_rad
-        if self._heading_rad is None or self._state != "walking":
-            self._heading_rad = self._yaw_rad
-        else:
-            self._heading_rad = _wrap(self._heading_rad + self._velocity[2] * dt)
-        # The reference is planned one cycle ahead: the proportional term tracks where the
-        # joints should be now, the feed-forward term is the speed that reaches the next
-        # reference by the end of this cycle.
-        ref_next = self._reference(obs, dt)
-        ref_now = ref_next if self._prev_ref is None else self._prev_ref
-        speeds = self.tracking.speeds(ref_now, obs.joint_angles_rad)
-        if cfg.feedforward:
-            speeds = np.clip(speeds + (ref_next - ref_now) / dt,
+        self._update_heading(obs)
+        pitch, roll = torso_pitch_roll(obs.torso_quat_wxyz)
+        self._pitch_state = (pitch - self._lean(), float(obs.gyro_rad_s[1]))
+        self._peak_tilt = max(self._peak_tilt, abs(pitch - self._lean()), abs(roll))
+        # References are planned for the end of this cycle: the proportional term closes the
+        # gap to them, the feed-forward term adds the plan's own speed over the cycle.
+        nominal, ref = self._reference(obs)
+        aim = ref if self._prev_ref is None or not cfg.track_previous else self._prev_ref
+        speeds = self.tracking.speeds(aim, obs.joint_angles_rad)
+        if self._prev_nominal is not None:
+            planned = nominal - self._prev_nominal
+            feedback = (ref - nominal) - (self._prev_ref - self._prev_nominal)
+            speeds = np.clip(speeds + (cfg.feedforward * planned
+                                       + cfg.feedback_feedforward * feedback) / CYCLE_S,
                              -MAX_JOINT_SPEED_RAD_S, MAX_JOINT_SPEED_RAD_S)
-        self._prev_ref = ref_next
-        self.reference_rad = ref_now
+        self._prev_nominal = nominal
+        self._prev_ref = ref
+        self.reference_rad = ref
         return speeds
+
+    # --- heading and line -----------------------------------------------------------------
+    def _update_heading(self, obs: Observation) -> None:
+        cfg = self.config
+        yaw = obs.torso_yaw_rad
+        self._yaw_rad = yaw
+        # The torso yaws back and forth with every step: the heading hold steers on the
+        # heading averaged over the last gait period (two steps).
+        self._yaw_history.append((math.cos(yaw), math.sin(yaw)))
+        del self._yaw_history[:-2 * cfg.step_cycles]
+        c, s = np.mean(self._yaw_history, axis=0)
+        self._mean_yaw_rad = math.atan2(s, c) if cfg.smooth_heading else yaw
+        if self._state != "walking":
+            self._heading_rad = yaw
+            self._line = None
+            return
+        self._heading_rad = _wrap(self._heading_rad + self._velocity[2] * CYCLE_S)
+        # Anti-windup: when the turn lags the command, the desired heading waits for it.
+        lag = float(np.clip(_wrap(self._heading_rad - self._mean_yaw_rad),
+                            -cfg.max_heading_error_rad, cfg.max_heading_error_rad))
+        self._heading_rad = _wrap(self._mean_yaw_rad + lag)
+        self._aim_rad = self._heading_rad
+        if cfg.line_gain and self._velocity[1] == 0.0 and self._velocity[2] == 0.0:
+            pos = obs.torso_pos_m
+            if self._line is None:
+                self._line = (float(pos[0]), float(pos[1]), self._heading_rad)
+            x0, y0, h = self._line
+            c, s = math.cos(h), math.sin(h)
+            offset = -s * (pos[0] - x0) + c * (pos[1] - y0)
+            sign = 1.0 if self._velocity[0] >= 0 else -1.0
+            self._aim_rad = _wrap(h - sign * float(np.clip(cfg.line_gain * offset,
+                                                           -cfg.max_line_aim_rad,
+                                                           cfg.max_line_aim_rad)))
+        else:
+            self._line = None
 
     # --- internals ------------------------------------------------------------------------
     def _walk_pose(self, feet: np.ndarray, lean_rad: float) -> np.ndarray:
@@ -170,84 +238,137 @@ class WalkEngine(Agent):
             q[_LEGS[side]] = leg_ik(_SIDES[side], tilt @ np.array([x, y, z]), rot, passes=2)
         swing = self.config.arm_swing_rad_per_m
         if swing:
-            # Shoulder pitch: positive lifts the arm forward... the arm goes with the other leg.
+            # The arm goes with the opposite leg, cancelling part of its yaw moment.
             q[_SHOULDERS[0]] += swing * (feet[1, 0] - self.config.ankle_x_m)
             q[_SHOULDERS[1]] += swing * (feet[0, 0] - self.config.ankle_x_m)
         return q
 
     def _lean(self) -> float:
         cfg = self.config
-        return cfg.torso_pitch_rad + cfg.torso_pitch_per_speed * self._step_cmd[0] / cfg.step_s
+        return cfg.torso_pitch_rad + cfg.torso_pitch_per_speed * self._step_cmd[0] / cfg.step_time_s
 
     def _next_command(self) -> np.ndarray:
+        """This step's command (dx, dy, dyaw): the velocity command ramped and clipped, its
+        forward part corrected by the torso pitch at the step start (capture the fall)."""
         cfg = self.config
-        want = self._velocity * cfg.step_s
-        if self._heading_rad is not None:
-            want[2] += cfg.heading_gain * _wrap(self._heading_rad - self._yaw_rad)
-        want = np.clip(want, [-cfg.max_step_x_m, -cfg.max_step_y_m, -cfg.max_step_yaw_rad],
-                       [cfg.max_step_x_m, cfg.max_step_y_m, cfg.max_step_yaw_rad])
+        want = self._velocity * cfg.step_time_s
+        want[0] *= cfg.stride_scale
+        if not self._stop_requested:
+            yaw = self._mean_yaw_rad
+            want[2] += cfg.heading_gain * _wrap(self._aim_rad - yaw)
+        high = np.array([cfg.max_step_x_m, cfg.max_step_y_m, cfg.max_step_yaw_rad])
+        want = np.clip(want, -high, high)
         lim = np.array([cfg.max_step_change_x_m, cfg.max_step_change_y_m,
                         cfg.max_step_change_yaw_rad])
-        return self._step_cmd + np.clip(want - self._step_cmd, -lim, lim)
+        self._step_base = self._step_base + np.clip(want - self._step_base, -lim, lim)
+        if cfg.caution_tilt_rad and self._peak_tilt > cfg.caution_tilt_rad:
+            # The last step rocked the torso hard: shorter, straight steps until it calms.
+            self._step_base[0] *= cfg.caution_step_scale
+            self._step_base[2] = 0.0
+        self._peak_tilt = 0.0
+        pitch_err, pitch_rate = self._pitch_state
+        cmd = self._step_base.copy()
+        cmd[0] += cfg.step_per_pitch_m * pitch_err + cfg.step_per_pitch_rate_m_s * pitch_rate
+        return np.clip(cmd, -high, high)
 
-    def _reference(self, obs: Observation, dt: float) -> np.ndarray:
+    def _reference(self, obs: Observation) -> tuple[np.ndarray, np.ndarray]:
+        """(nominal, reference) joint angles for the end of this cycle, (22,) each [rad]."""
         cfg = self.config
         if self._state == "standing":
             self.done = True
-            return self._stand.copy()
-        if self._state in ("starting", "halting"):
-            self._blend_t += dt
+            return self._stand.copy(), self._stand.copy()
+        if self._state == "halting":
+            return self._halt_reference(obs)
+        if self._state == "starting":
+            self._blend_t += CYCLE_S
             a = min(1.0, self._blend_t / cfg.blend_s)
             a = 0.5 * (1 - math.cos(math.pi * a))
-            if self._state == "starting":
-                target = self._walk_pose(self._plan.start, self._lean())
-            else:
-                target = self._stand
+            target = self._walk_pose(self._plan.start, self._lean())
             ref = (1 - a) * self._blend_from + a * target
             if self._blend_t >= cfg.blend_s - 1e-9:
-                self._begin("walking" if self._state == "starting" else "standing")
-                if self._state == "walking":
-                    self._start_step(first=True)
-            return ref
+                self._begin("walking")
+                self._heading_rad = self._yaw_rad
+                self._aim_rad = self._yaw_rad
+                self._start_step(first=True)
+            return ref, ref.copy()
         # walking
-        self._phase += dt / cfg.step_s
-        if self._phase >= 1.0 - 1e-9:
-            self._phase = 0.0
+        self._cycle_in_step += 1
+        if self._cycle_in_step > cfg.step_cycles:
             if self._stop_requested and self._at_rest():
                 self._begin("halting")
-                self._blend_from = self._prev_ref.copy()
-                return self._prev_ref.copy()
+                return self._halt_reference(obs)
             self._start_step()
-        feet = feet_at(cfg, self._plan, self._phase)
-        ref = self._walk_pose(feet, self._lean())
-        return self._feedback(ref, obs)
+            self._cycle_in_step = 1
+        phase = self._cycle_in_step / cfg.step_cycles
+        feet = feet_at(cfg, self._plan, phase)
+        if cfg.yaw_hold_gain:
+            err = float(np.clip(_wrap(self._yaw_rad - self._aim_rad), -0.3, 0.3))
+            feet[self._plan.support, 3] += cfg.yaw_hold_gain * err
+        nominal = self._walk_pose(feet, self._lean())
+        if self._prev_nominal is not None and cfg.max_reference_speed_rad_s:
+            nominal = self._rate_limited(nominal)
+        return nominal, self._feedback(nominal.copy(), obs)
+
+    def _halt_reference(self, obs: Observation) -> tuple[np.ndarray, np.ndarray]:
+        """Halting: after the last step, hold the walk stance with both feet down for
+        ``halt_settle_s`` (balance feedback on, so the last steps' rocking dies out), then
+        blend into the stand pose while the feedback fades out."""
+        cfg = self.config
+        self._blend_t += CYCLE_S
+        settle = cfg.halt_settle_s if self._halt_from_walk else 0.0
+        hold = self._halt_hold
+        a = min(1.0, max(0.0, self._blend_t - settle) / cfg.blend_s)
+        a = 0.5 * (1 - math.cos(math.pi * a))
+        nominal = (1 - a) * hold + a * self._stand
+        ref = nominal + (1 - a) * (self._feedback(nominal.copy(), obs, both_support=True)
+                                   - nominal)
+        if self._blend_t >= settle + cfg.blend_s - 1e-9:
+            self._begin("standing")
+        return nominal, ref
+
+    def _rate_limited(self, nominal: np.ndarray) -> np.ndarray:
+        """The planned pose moved from last cycle's by at most the reference speed cap per
+        joint: the servos cannot follow faster, and a reachable plan keeps the feed-forward
+        honest (the swing leg then lifts and swings as fast as its joints can go)."""
+        step = self.config.max_reference_speed_rad_s * CYCLE_S
+        return self._prev_nominal + np.clip(nominal - self._prev_nominal, -step, step)
 
     def _at_rest(self) -> bool:
+        """The ramped command is zero and the last step ended near the nominal stance."""
         feet = np.array([nominal_foot(self.config, 0), nominal_foot(self.config, 1)])
-        return (not np.any(self._step_cmd)) and bool(np.allclose(self._plan.end, feet, atol=1e-6))
+        return (not np.any(self._step_base)
+                and bool(np.abs(self._plan.end - feet).max() < self.config.rest_tolerance_m))
 
     def _start_step(self, first: bool = False) -> None:
         end = self._plan.end
         if first:
             support = 1 if self._velocity[1] >= 0 and self._velocity[2] >= 0 else 0
+            self._cycle_in_step = 0
         else:
             support = 1 - self._plan.support
             self.steps_taken += 1
         self._step_cmd = self._next_command()
         self._plan = plan_step(self.config, support, end, self._step_cmd)
 
-    def _feedback(self, ref: np.ndarray, obs: Observation) -> np.ndarray:
+    def _feedback(self, ref: np.ndarray, obs: Observation,
+                  both_support: bool = False) -> np.ndarray:
+        """``ref`` plus IMU feedback (in place): torso tilt onto both hips and, as foot
+        placement, onto the swing hip; torso tilt onto the support ankle, gyro rates onto both
+        ankles."""
         cfg = self.config
         gx, gy, _ = obs.gyro_rad_s
-        if cfg.gyro_pitch_gain or cfg.gyro_roll_gain:
-            for side in (0, 1):
-                legs = _LEGS[side]
-                ref[legs[4]] += cfg.gyro_pitch_gain * gy
-                ref[legs[5]] += cfg.gyro_roll_gain * gx
-        if cfg.tilt_pitch_gain or cfg.tilt_roll_gain:
-            pitch, roll = torso_pitch_roll(obs.torso_quat_wxyz)
-            for side in (0, 1):
-                legs = _LEGS[side]
-                ref[legs[2]] += cfg.tilt_pitch_gain * (pitch - self._lean())
-                ref[legs[1]] += cfg.tilt_roll_gain * roll
+        pitch, roll = torso_pitch_roll(obs.torso_quat_wxyz)
+        pitch -= self._lean()
+        for side in (0, 1):
+            legs = _LEGS[side]
+            ref[legs[4]] += cfg.gyro_pitch_gain * gy
+            ref[legs[5]] += cfg.gyro_roll_gain * gx
+            ref[legs[2]] += cfg.tilt_pitch_gain * pitch
+            ref[legs[1]] += cfg.tilt_roll_gain * roll
+            if side != self._plan.support and not both_support:
+                ref[legs[2]] += cfg.swing_pitch_gain * pitch
+                ref[legs[1]] += cfg.swing_roll_gain * roll
+            else:
+                ref[legs[4]] += cfg.ankle_pitch_gain * pitch
+                ref[legs[5]] += cfg.ankle_roll_gain * roll
         return ref

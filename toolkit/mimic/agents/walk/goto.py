@@ -2,9 +2,19 @@
 
 Far from the target the robot turns toward it and walks forward (slowing when the target is
 off to the side); near it, it strafes and turns onto the final heading with speeds
-proportional to the remaining error; inside the tolerance it stops. ``arrived`` becomes True
-once the engine stands still within the tolerance; if the halt left it outside, it walks
-again (a few retries at most).
+proportional to the remaining error (plus a small integral term, since slow steps creep);
+inside the tolerance it stops. All errors use the torso pose averaged over the last gait
+period, since the torso sways and yaws with every step. ``arrived`` becomes True once the
+engine stands still within the tolerance; if the halt left it outside, it walks again (a
+few retries at most; after the last one ``arrived`` is set anyway and ``errors()`` tells how
+close it got).
+
+Ball avoidance: when the target sits behind the ball (``pose_behind_ball``), the robot first
+walks to a staging point behind the target (going round the ball when it is in the way),
+then straight in along the final heading; within ``ball_slow_radius_m`` of the ball it takes
+short steps only, so a swinging foot rarely reaches the ball (not never: the torso's yaw
+swing at the last correction can still nudge it), and the arrival tolerance is a little
+looser there, since each extra correction risks a touch.
 """
 
 from __future__ import annotations
@@ -16,7 +26,7 @@ import numpy as np
 
 from mimic.agents.base import Agent
 from mimic.agents.walk.engine import WalkEngine
-from mimic.world.world import Observation
+from mimic.world.world import CYCLE_S, Observation
 
 __all__ = ["GoToConfig", "GoToPose", "pose_behind_ball", "wrap_angle"]
 
@@ -42,22 +52,47 @@ class GoToConfig:
 
     # Arrival tolerance: position [m] and heading [rad].
     tolerance_m: float = 0.03
-    tolerance_rad: float = math.radians(5)
+    tolerance_rad: float = math.radians(6)
     # Stop is triggered at this fraction of the tolerance (the halt adds a little drift).
-    stop_fraction: float = 0.5
+    stop_fraction: float = 0.7
     # Beyond this distance [m] walk facing the target; inside it, align with the heading.
     far_m: float = 0.5
     # Top speeds: forward [m/s], sideways [m/s], turning [rad/s].
     max_vx_m_s: float = 0.45
     max_vy_m_s: float = 0.15
-    max_yaw_rate_rad_s: float = 1.2
+    max_yaw_rate_rad_s: float = 0.6
     # Proportional gains: speed per metre of error [1/s], turn rate per radian [1/s].
     position_gain_per_s: float = 1.5
     heading_gain_per_s: float = 2.0
+    # Near the target: heading gain [1/s] and top turn rate [rad/s].
+    near_heading_gain_per_s: float = 1.0
+    near_max_yaw_rate_rad_s: float = 0.3
+    # Integral gain near the target [1/s^2] (at most ``max_integral_m_s``): the walk's small
+    # steps carry a bias (stepping in place creeps), which a proportional command cannot beat.
+    integral_gain_per_s2: float = 1.5
+    max_integral_m_s: float = 0.12
     # Smallest useful speed near the target (the walk quantises steps) [m/s].
     min_speed_m_s: float = 0.04
     # How many times to walk again when a halt ends outside the tolerance.
     max_retries: int = 4
+    # Walk around the ball (``Observation.ball_pos_m``) when it lies near the target.
+    avoid_ball: bool = True
+    # The ball counts as "near the target" within this distance of it [m].
+    ball_near_target_m: float = 0.35
+    # Clearance of the torso from the ball while going around it; the staging point is this
+    # far behind the target [m].
+    ball_clearance_m: float = 0.3
+    # Half-width of the lane behind the target from which the robot walks straight in [m].
+    approach_lane_m: float = 0.1
+    # Within this distance of the ball [m] the robot walks at most ``ball_approach_speed``.
+    ball_slow_radius_m: float = 0.45
+    ball_approach_speed_m_s: float = 0.12
+    # The robot enters the approach lane only facing the final heading this closely [rad].
+    approach_heading_rad: float = math.radians(15)
+    # Arrival tolerances are scaled by this next to the ball.
+    near_ball_tolerance_scale: float = 1.4
+    # The integral term only works this close to the target [m] (no wind-up on the way in).
+    integral_radius_m: float = 0.08
 
 
 class GoToPose(Agent):
@@ -72,6 +107,9 @@ class GoToPose(Agent):
         self.config = config
         self.period_s = engine.period_s
         self._target = None
+        self._history: list[tuple[float, float, float, float]] = []
+        self._integral = np.zeros(2)
+        self._approaching = False
         self._retries = 0
         self._stopping = False
         self._arrived = False
@@ -79,6 +117,8 @@ class GoToPose(Agent):
     def set_target(self, x_m: float, y_m: float, heading_rad: float) -> None:
         """Target torso pose in the field frame [m, m, rad]."""
         self._target = (float(x_m), float(y_m), float(heading_rad))
+        self._integral = np.zeros(2)
+        self._approaching = False
         self._retries = 0
         self._stopping = False
         self._arrived = False
@@ -91,14 +131,27 @@ class GoToPose(Agent):
 
     def errors(self, obs: Observation) -> tuple[float, float, float]:
         """Target in the robot frame: (forward [m], left [m], heading error [rad])."""
+        return self._errors(obs.torso_pos_m[0], obs.torso_pos_m[1], obs.torso_yaw_rad)
+
+    def _errors(self, px: float, py: float, yaw: float) -> tuple[float, float, float]:
         x, y, heading = self._target
-        yaw = obs.torso_yaw_rad
-        dx, dy = x - obs.torso_pos_m[0], y - obs.torso_pos_m[1]
+        dx, dy = x - px, y - py
         c, s = math.cos(yaw), math.sin(yaw)
         return c * dx + s * dy, -s * dx + c * dy, wrap_angle(heading - yaw)
 
+    def _smoothed_errors(self, obs: Observation) -> tuple[float, float, float]:
+        """``errors`` of the torso pose averaged over the last gait period: the torso sways
+        and yaws with every step, and steering on that swing would feed it."""
+        self._history.append((float(obs.torso_pos_m[0]), float(obs.torso_pos_m[1]),
+                              math.cos(obs.torso_yaw_rad), math.sin(obs.torso_yaw_rad)))
+        n = max(1, round(self.engine.period_s / CYCLE_S))
+        del self._history[:-n]
+        px, py, c, s = np.mean(self._history, axis=0)
+        return self._errors(px, py, math.atan2(s, c))
+
     def reset(self, obs: Observation) -> None:
         self.engine.reset(obs)
+        self._history = []
         self._stopping = False
         self._arrived = False
         self.done = False
@@ -111,11 +164,54 @@ class GoToPose(Agent):
         self.done = self._arrived
         return speeds
 
+    def _ball_waypoint(self, obs: Observation) -> tuple[float, float] | None:
+        """Waypoint (forward, left) [m] in the robot frame that leads around the ball to a
+        staging point behind it, or None once the robot is in the approach lane (or the ball
+        is not near the target)."""
+        cfg = self.config
+        x, y, heading = self._target
+        bx, by = obs.ball_pos_m[0] - x, obs.ball_pos_m[1] - y
+        if not cfg.avoid_ball or math.hypot(bx, by) > cfg.ball_near_target_m:
+            return None
+        # Target frame: x along the final heading, origin at the target.
+        c, s = math.cos(heading), math.sin(heading)
+        ball = np.array([c * bx + s * by, -s * bx + c * by])
+        rx, ry = obs.torso_pos_m[0] - x, obs.torso_pos_m[1] - y
+        robot = np.array([c * rx + s * ry, -s * rx + c * ry])
+        lane = cfg.approach_lane_m
+        if self._approaching:
+            self._approaching = abs(robot[1]) < 2 * lane and robot[0] < ball[0] - 0.1
+        else:
+            aligned = abs(wrap_angle(heading - obs.torso_yaw_rad)) < cfg.approach_heading_rad
+            self._approaching = (abs(robot[1]) < lane and robot[0] < -lane and aligned) or \
+                float(np.hypot(*robot)) < cfg.tolerance_m
+        if self._approaching:
+            return None
+        stage = np.array([-cfg.ball_clearance_m, 0.0])
+        way = stage
+        if _segment_distance(ball, robot, stage) < 0.7 * cfg.ball_clearance_m:
+            # Go round the ball on the robot's side of it first.
+            side = 1.0 if robot[1] >= ball[1] else -1.0
+            way = ball + np.array([-0.1, side * cfg.ball_clearance_m])
+        # Back to the field frame, then into the robot frame.
+        wx, wy = c * way[0] - s * way[1] + x, s * way[0] + c * way[1] + y
+        yaw = obs.torso_yaw_rad
+        dx, dy = wx - obs.torso_pos_m[0], wy - obs.torso_pos_m[1]
+        cy, sy = math.cos(yaw), math.sin(yaw)
+        return cy * dx + sy * dy, -sy * dx + cy * dy
+
     def _steer(self, obs: Observation) -> None:
         cfg = self.config
-        fx, fy, dh = self.errors(obs)
+        if self.engine.state == "standing":
+            self._history = []  # standing still: the pose is exact
+        fx, fy, dh = self._smoothed_errors(obs)
         dist = math.hypot(fx, fy)
-        inside = dist < cfg.tolerance_m and abs(dh) < cfg.tolerance_rad
+        # Next to the ball every extra correction risks touching it: settle for a little less.
+        loose = 1.0
+        if cfg.avoid_ball and float(np.hypot(*(obs.ball_pos_m[:2] - obs.torso_pos_m[:2]))) \
+                < cfg.ball_slow_radius_m:
+            loose = cfg.near_ball_tolerance_scale
+        inside = dist < loose * cfg.tolerance_m and abs(dh) < loose * cfg.tolerance_rad
         if self._stopping:
             if self.engine.state == "standing":
                 if inside:
@@ -123,6 +219,7 @@ class GoToPose(Agent):
                 elif self._retries < cfg.max_retries:
                     self._retries += 1
                     self._stopping = False
+                    self._integral = np.zeros(2)
                 else:
                     self._arrived = True  # best effort; errors() tells how close
             return
@@ -131,20 +228,49 @@ class GoToPose(Agent):
             self.engine.stop()
             self._stopping = True
             return
-        if dist > cfg.far_m:
+        way = self._ball_waypoint(obs)
+        if way is not None:
+            fx, fy = way  # head for the waypoint; on arrival there, the next one takes over
+            dist = math.hypot(fx, fy)
+        if dist > cfg.far_m or (way is not None and dist > 0.5 * cfg.far_m):
+            # Far: face the goal point and walk forward.
             bearing = math.atan2(fy, fx)
             yaw_rate = cfg.heading_gain_per_s * bearing
             vx = cfg.max_vx_m_s * max(0.0, math.cos(bearing)) ** 2
             vx = min(vx, cfg.position_gain_per_s * dist)
             vy = 0.0
         else:
-            yaw_rate = cfg.heading_gain_per_s * dh
-            vx = cfg.position_gain_per_s * fx
-            vy = cfg.position_gain_per_s * fy
-            if dist > cfg.stop_fraction * cfg.tolerance_m:
-                scale = max(1.0, cfg.min_speed_m_s / max(math.hypot(vx, vy), 1e-9))
+            # Near: face the final heading and move sideways / forward onto the point.
+            # Gentler near the target: the torso's yaw swings with every step, and a fast
+            # heading loop on top of the walk's own heading hold rings.
+            yaw_rate = float(np.clip(cfg.near_heading_gain_per_s * dh,
+                                     -cfg.near_max_yaw_rate_rad_s, cfg.near_max_yaw_rate_rad_s))
+            if self.engine.state == "walking" and way is None and dist < cfg.integral_radius_m:
+                self._integral = np.clip(self._integral + cfg.integral_gain_per_s2 * CYCLE_S
+                                         * np.array([fx, fy]), -cfg.max_integral_m_s,
+                                         cfg.max_integral_m_s)
+            vx = cfg.position_gain_per_s * fx + self._integral[0]
+            vy = cfg.position_gain_per_s * fy + self._integral[1]
+            low = cfg.min_speed_m_s if way is None else 2 * cfg.min_speed_m_s
+            if way is None and dist < cfg.tolerance_m:
+                vx = vy = 0.0  # in place: only the heading is left to fix
+            elif dist > cfg.stop_fraction * cfg.tolerance_m:
+                scale = max(1.0, low / max(math.hypot(vx, vy), 1e-9))
                 vx, vy = vx * scale, vy * scale
-        self.engine.set_velocity(float(np.clip(vx, -0.5 * cfg.max_vx_m_s, cfg.max_vx_m_s)),
-                                 float(np.clip(vy, -cfg.max_vy_m_s, cfg.max_vy_m_s)),
-                                 float(np.clip(yaw_rate, -cfg.max_yaw_rate_rad_s,
-                                               cfg.max_yaw_rate_rad_s)))
+        vx = float(np.clip(vx, -0.5 * cfg.max_vx_m_s, cfg.max_vx_m_s))
+        vy = float(np.clip(vy, -cfg.max_vy_m_s, cfg.max_vy_m_s))
+        if cfg.avoid_ball and way is None:
+            # Short steps near the ball: a long stride's swing foot would reach it.
+            near = float(np.hypot(*(obs.ball_pos_m[:2] - obs.torso_pos_m[:2])))
+            if near < cfg.ball_slow_radius_m:
+                scale = min(1.0, cfg.ball_approach_speed_m_s / max(math.hypot(vx, vy), 1e-9))
+                vx, vy = vx * scale, vy * scale
+        self.engine.set_velocity(vx, vy, float(np.clip(yaw_rate, -cfg.max_yaw_rate_rad_s,
+                                                       cfg.max_yaw_rate_rad_s)))
+
+
+def _segment_distance(point: np.ndarray, a: np.ndarray, b: np.ndarray) -> float:
+    """Distance [m] from ``point`` to the segment a-b (2-D)."""
+    ab = b - a
+    t = float(np.clip(np.dot(point - a, ab) / max(float(np.dot(ab, ab)), 1e-12), 0.0, 1.0))
+    return float(np.hypot(*(a + t * ab - point)))
