@@ -29,7 +29,16 @@ class KickTrialConfig:
     # Longest simulated time one episode may take [s].
     episode_limit_s: float = 240.0
     # Longest walk to the ball before the episode is declared stuck [s].
-    walk_timeout_s: float = 60.0
+    walk_timeout_s: float = 90.0
+    # The walk aims this much farther behind the ball than the kick's offset [m]: its last
+    # steps carry it a few cm on, and a swing foot that reaches the ball nudges it away.
+    approach_back_off_m: float = 0.02
+    # Lined up: the ball lies within this distance of the kick's ball offset, forward and
+    # sideways [m]; otherwise (the walk nudged the ball, or stopped off target) walk again, at
+    # most ``lineup_attempts`` times.
+    lineup_tolerance_x_m: float = 0.05
+    lineup_tolerance_y_m: float = 0.03
+    lineup_attempts: int = 6
     # Ball counts as stopped below this speed [m/s].
     ball_rest_speed_m_s: float = 0.02
     # Longest wait for the ball to stop after a kick [s].
@@ -69,19 +78,36 @@ def _place_for_kick(world: World, offset_m, rng, config: KickTrialConfig,
                      torso[1] + dx * math.sin(yaw) + dy * math.cos(yaw))
 
 
+def _ball_in_robot_frame(world: World) -> np.ndarray:
+    """Ball centre relative to the torso, robot frame (x forward, y left) [m]."""
+    d = world.ball_pos_m()[:2] - world.torso_pos_m()[:2]
+    c, s = math.cos(world.torso_yaw_rad()), math.sin(world.torso_yaw_rad())
+    return np.array([c * d[0] + s * d[1], -s * d[0] + c * d[1]])
+
+
 def _walk_to_ball(world: World, offset_m, falls: FallCounter, config: KickTrialConfig,
                   clock: EpisodeClock) -> str:
+    """Walk behind the ball facing the goal until lined up: ``arrived``, ``fell``, ``timeout``
+    (the walk took too long) or ``not lined up`` (every attempt ended off the ball)."""
     from mimic.agents.walk import make_walk_agent
     from mimic.agents.walk.goto import GoToPose, pose_behind_ball
-    goto = GoToPose(make_walk_agent())
-    ball = world.ball_pos_m()[:2]
-    goto.set_target(*pose_behind_ball(ball, np.array([F.OPPONENT_GOAL_X_M, 0.0]), offset_m))
-    limit = min(config.walk_timeout_s, clock.left_s(world))
-    outcome = run_until(world, goto, max_s=limit, falls=falls, stop=lambda w: goto.arrived)
-    if outcome in ("stop", "done"):
-        stand_still(world, max_s=0.4, falls=falls)
-        return "arrived"
-    return outcome
+    deadline_s = world.time_s + min(config.walk_timeout_s, clock.left_s(world))
+    for _ in range(config.lineup_attempts):
+        goto = GoToPose(make_walk_agent())
+        ball = world.ball_pos_m()[:2]
+        aim = (offset_m[0] + config.approach_back_off_m, offset_m[1])
+        goto.set_target(*pose_behind_ball(ball, np.array([F.OPPONENT_GOAL_X_M, 0.0]), aim))
+        outcome = run_until(world, goto, max_s=deadline_s - world.time_s, falls=falls,
+                            stop=lambda w: goto.arrived)
+        if outcome not in ("stop", "done"):
+            return outcome  # fell or timeout
+        if stand_still(world, max_s=0.4, falls=falls) == "fell":
+            return "fell"
+        error = _ball_in_robot_frame(world) - np.asarray(offset_m)
+        if (abs(error[0]) <= config.lineup_tolerance_x_m
+                and abs(error[1]) <= config.lineup_tolerance_y_m) or world.goal_scored():
+            return "arrived"
+    return "not lined up"
 
 
 def run_kick_episode(kick: AgentSpec, seed: int, config: KickTrialConfig = KickTrialConfig()
@@ -98,6 +124,7 @@ def run_kick_episode(kick: AgentSpec, seed: int, config: KickTrialConfig = KickT
     while clock.left_s(world) > 0:
         start_xy = world.ball_pos_m()[:2]
         start_t = world.time_s
+        lineup = _ball_in_robot_frame(world)
         falls_before = falls.falls
         outcome = run_until(world, kick.build(), max_s=min(10.0, clock.left_s(world)),
                             falls=falls)
@@ -119,6 +146,8 @@ def run_kick_episode(kick: AgentSpec, seed: int, config: KickTrialConfig = KickT
             fell=falls.falls > falls_before,
             ball_start_x_m=float(start_xy[0]), ball_start_y_m=float(start_xy[1]),
             ball_end_x_m=float(end_xy[0]), ball_end_y_m=float(end_xy[1]),
+            lineup_error_x_m=float(lineup[0] - offset[0]),
+            lineup_error_y_m=float(lineup[1] - offset[1]),
         ))
         if world.goal_scored():
             end = "goal"
@@ -134,12 +163,16 @@ def run_kick_episode(kick: AgentSpec, seed: int, config: KickTrialConfig = KickT
             if not get_up(world, falls):
                 break
             walk = _walk_to_ball(world, offset, falls, config, clock)
+        if world.goal_scored():  # pushed in while walking: a goal, but no kick's credit
+            end = "goal while walking"
+            break
         if walk != "arrived":
-            end = {"fell": "could not get up"}.get(walk, "stuck")
+            end = "could not get up" if walk == "fell" else f"stuck: {walk}"
             break
     summary = dict(seed=seed, duration_s=world.time_s, kicks=len(rows),
-                   goals=int(any(r["goal"] for r in rows)), falls=falls.falls,
-                   getups=falls.getups, end=end, stuck=end == "stuck")
+                   goals=int(any(r["goal"] for r in rows)),
+                   goals_while_walking=int(end == "goal while walking"), falls=falls.falls,
+                   getups=falls.getups, end=end, stuck=end.startswith("stuck"))
     if config.trace:
         summary["trace"] = world.trace()
     return rows, summary

@@ -42,7 +42,9 @@ def kick_summary(label: str, batch: EpisodeBatch) -> dict:
         mean_distance_m=kicks["distance_m"].mean() if n else 0.0,
         std_distance_m=kicks["distance_m"].std() if n > 1 else 0.0,
         mean_direction_error_deg=kicks["direction_error_deg"].mean() if n else 0.0,
-        goals=int(eps["goals"].sum()), falls=int(eps["falls"].sum()),
+        goals=int(eps["goals"].sum()),
+        goals_while_walking=int(eps["goals_while_walking"].sum()) if n else 0,
+        falls=int(eps["falls"].sum()),
         getups=int(eps["getups"].sum()), stuck=int(eps["stuck"].sum()),
         episodes=eps.height, simulated_min=batch.simulated_s / 60,
     )
