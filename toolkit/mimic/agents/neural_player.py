@@ -1,8 +1,18 @@
 """Plays a learned motion: the network gives references each 20 ms cycle, tracked by the same
-proportional controller as the keyframe player (so a learned copy meets the same attenuation)."""
+proportional controller as the keyframe player (so a learned copy meets the same attenuation).
+
+Cyclic motions (a walk) are learned from whole gait cycles at steady speed; jumping from the
+stand pose straight into mid-gait at full rate throws the robot over within seconds. So a
+cyclic model starts phase-locked, the way walk engines start: first the pose bends from the
+angles at ``reset`` into the cycle's mean pose (``stance_s``), then the phase runs at its full
+rate while the swing around that mean pose grows from zero to the learned amplitude
+(``start_ramp_s``), like a step length ramped up from marching on the spot. Both set to 0
+give the old behaviour (the learned cycle from the first cycle on).
+"""
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
 
 import numpy as np
@@ -13,7 +23,21 @@ from mimic.learn.model import MotionModel
 from mimic.robot.joints import NUM_JOINTS
 from mimic.world.world import Observation
 
-__all__ = ["NeuralPlayer"]
+__all__ = ["NeuralPlayer", "DEFAULT_STANCE_S", "DEFAULT_START_RAMP_S"]
+
+#: Cyclic models: time to bend from the start pose into the cycle's mean pose [s].
+DEFAULT_STANCE_S = 0.4
+#: Cyclic models: time over which the swing grows to the learned amplitude [s].
+DEFAULT_START_RAMP_S = 3.0
+
+# Phases sampled to find a cyclic model's mean pose.
+_MEAN_SAMPLES = 64
+
+
+def _smooth_step(x: float) -> float:
+    """0 -> 1 cosine blend for x in [0, 1] (clamped outside), zero slope at both ends."""
+    x = min(1.0, max(0.0, x))
+    return 0.5 - 0.5 * math.cos(math.pi * x)
 
 
 class NeuralPlayer(Agent):
@@ -22,20 +46,32 @@ class NeuralPlayer(Agent):
     One-shot models: time since ``reset`` goes in; ``done`` is set when the ended flag
     exceeds 0.5 (or, as a guard, ``max_overrun_s`` after the trained duration).
     Cyclic models: the phase advances at ``speed_rate`` times the learned rate and loops;
-    they never finish by themselves.
+    they never finish by themselves. They start phase-locked (module docstring): the pose
+    blends from the start angles into the cycle's mean pose over ``stance_s`` [s], then the
+    phase starts at 0 and the swing around the mean pose ramps from 0 to 1 over
+    ``start_ramp_s`` [s] (both ignored by one-shot models).
     """
 
     team = "mimic"
 
     def __init__(self, model: MotionModel, tracking: TrackingController = TrackingController(),
-                 speed_rate: float = 1.0, max_overrun_s: float = 1.0) -> None:
+                 speed_rate: float = 1.0, max_overrun_s: float = 1.0,
+                 stance_s: float = DEFAULT_STANCE_S,
+                 start_ramp_s: float = DEFAULT_START_RAMP_S) -> None:
         super().__init__()
         self.model, self.tracking = model, tracking
         self.speed_rate, self.max_overrun_s = speed_rate, max_overrun_s
+        self.stance_s, self.start_ramp_s = float(stance_s), float(start_ramp_s)
         self.name = model.name
-        self.period_s = model.period_s / speed_rate if model.cyclic else None
         self.ended_flag = 0.0
         self._start_s = 0.0
+        self._start_rad: np.ndarray | None = None
+        self._mean_rad: np.ndarray | None = None
+
+    @property
+    def period_s(self) -> float | None:
+        """Gait period at the current ``speed_rate`` [s] (cyclic models), else None."""
+        return self.model.period_s / self.speed_rate if self.model.cyclic else None
 
     @classmethod
     def from_file(cls, path: str | Path, **kwargs) -> "NeuralPlayer":
@@ -46,18 +82,49 @@ class NeuralPlayer(Agent):
 
     def reset(self, obs: Observation) -> None:
         self._start_s = obs.time_s
+        self._start_rad = np.asarray(obs.joint_angles_rad, dtype=float).copy()
         self.done = False
         self.ended_flag = 0.0
 
     def reference_at(self, t_s: float) -> np.ndarray:
-        """(23,) network output at ``t_s`` [s] of playing (phase-scaled for cyclic models)."""
+        """(23,) network output at ``t_s`` [s] of playing (phase-scaled for cyclic models; no
+        start-up blending)."""
         if self.model.cyclic:
             t_s = (t_s * self.speed_rate) % self.model.period_s
         return self.model.predict(t_s)
 
+    def mean_pose_rad(self) -> np.ndarray:
+        """(22,) mean joint reference over one cycle of a cyclic model [rad]."""
+        if self._mean_rad is None:
+            t = np.arange(_MEAN_SAMPLES) * (self.model.period_s / _MEAN_SAMPLES)
+            self._mean_rad = self.model.predict(t)[:, :NUM_JOINTS].mean(axis=0)
+        return self._mean_rad
+
+    def start_weights(self, t_s: float) -> tuple[float, float]:
+        """(stance blend, swing amplitude), each 0..1, at ``t_s`` [s] since ``reset``."""
+        stance = 1.0 if self.stance_s <= 0 else _smooth_step(t_s / self.stance_s)
+        walk_s = t_s - self.stance_s
+        if walk_s < 0:
+            return stance, 0.0
+        return stance, 1.0 if self.start_ramp_s <= 0 else _smooth_step(walk_s / self.start_ramp_s)
+
+    def cyclic_reference(self, t_s: float) -> np.ndarray:
+        """(23,) output of a cyclic model at ``t_s`` [s] since ``reset``, start-up included."""
+        stance, swing = self.start_weights(t_s)
+        out = self.reference_at(max(0.0, t_s - self.stance_s))
+        if stance >= 1.0 and swing >= 1.0:
+            return out
+        mean = self.mean_pose_rad()
+        q = mean + swing * (out[:NUM_JOINTS] - mean)
+        if self._start_rad is not None:
+            q = (1.0 - stance) * self._start_rad + stance * q
+        out = out.copy()
+        out[:NUM_JOINTS] = q
+        return out
+
     def act(self, obs: Observation) -> np.ndarray:
         t = obs.time_s - self._start_s
-        out = self.reference_at(t)
+        out = self.cyclic_reference(t) if self.model.cyclic else self.reference_at(t)
         self.reference_rad = out[:NUM_JOINTS]
         self.ended_flag = float(out[NUM_JOINTS])
         if not self.model.cyclic:
