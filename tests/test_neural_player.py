@@ -84,3 +84,19 @@ def test_cyclic_player_loops_and_scales_phase():
     assert player.period_s == pytest.approx(0.25)
     np.testing.assert_allclose(player.reference_at(0.05), player.reference_at(0.30), atol=1e-9)
     np.testing.assert_allclose(player.reference_at(0.05), model.predict(0.10), atol=1e-9)
+
+
+def test_learned_get_up_starts_lying_and_stands_the_robot_up(tmp_path):
+    from mimic.learn.train import training_dataset
+    from mimic.recording.reader import read_tf
+    from mimic.recording.recorder import RecordConfig, record
+
+    source = tmp_path / "getup_front.mcap"
+    record("getup_front", source, config=RecordConfig(tf_every=5))
+    model = train_model(training_dataset(source))
+    player = NeuralPlayer(model)
+    assert player.start_posture == "lying_front"
+    replay = tmp_path / "learned_getup.mcap"
+    record(player, replay, config=RecordConfig(tf_every=5))
+    torso_z = read_tf(replay)["torso"].pos_m[:, 2]
+    assert torso_z[0] < 0.15 and torso_z[-1] > 0.28

@@ -30,7 +30,7 @@ def _quiet(_: str) -> None:
 
 def record_and_train(agent: str, out_dir: Path, *, observe_only: bool = False,
                      target: str | None = None, seed: int = 0, say: Say = _quiet,
-                     warmup_s: float = 0.0) -> tuple[Path, Path, dict]:
+                     warmup_s: float | None = None) -> tuple[Path, Path, dict]:
     """Record ``agent`` into ``out_dir/<agent>.mcap`` and train a model on it.
 
     Returns:
@@ -84,7 +84,7 @@ def reproduce_paper(out_dir: Path = Path("out/paper"), *, minutes: float = 30.0,
     """Record our kick and the other team's walk, learn both, run both trials."""
     _, kick_model, kick_metrics = record_and_train("kick_right", out_dir, seed=seed, say=say)
     _, walk_model, walk_metrics = record_and_train("other-team-walk", out_dir, seed=seed,
-                                                   say=say, observe_only=True, warmup_s=2.0)
+                                                   say=say, observe_only=True)
     say(f"kick trial, {minutes:g} simulated minutes per variant")
     kick = kick_trial([AgentSpec("motion", "kick_right"), AgentSpec("model", str(kick_model))],
                       minutes=minutes, seed=seed, workers=workers,

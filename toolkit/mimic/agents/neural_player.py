@@ -63,6 +63,8 @@ class NeuralPlayer(Agent):
         self.speed_rate, self.max_overrun_s = speed_rate, max_overrun_s
         self.stance_s, self.start_ramp_s = float(stance_s), float(start_ramp_s)
         self.name = model.name
+        # A learned get-up starts lying, as its recording did.
+        self.start_posture = str(model.metadata.get("start_posture", "standing"))
         self.ended_flag = 0.0
         self._start_s = 0.0
         self._start_rad: np.ndarray | None = None

@@ -73,8 +73,9 @@ def register(app: typer.Typer) -> None:
         seed: Annotated[int, typer.Option(help="Simulation seed.")] = 0,
         observe_only: Annotated[bool, typer.Option(
             "--observe-only", help="Record only reached joint angles, no references.")] = False,
-        warmup: Annotated[float, typer.Option(
-            help="Cyclic agents: seconds run before recording.")] = 0.0,
+        warmup: Annotated[Optional[float], typer.Option(
+            help="Cyclic agents: seconds run before recording (default 4: past the start-up).",
+            show_default=False)] = None,
         model: Annotated[Optional[Path], typer.Option(
             help="Record a learned motion from a .mimic model file instead of NAME.")] = None,
     ) -> None:

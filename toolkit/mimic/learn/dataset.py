@@ -149,6 +149,8 @@ def _read_table(path: Path, topic: str | None):
                         recording_toolkit_version=info.toolkit_version)
             if info.ball_offset_m is not None:
                 meta["ball_offset_m"] = list(info.ball_offset_m)
+            if info.start_posture != "standing":
+                meta["start_posture"] = info.start_posture
             period = info.period_s
         meta.setdefault("motion", path.stem)
         return frame, meta, period
