@@ -90,7 +90,9 @@ def reproduce_paper(out_dir: Path = Path("out/paper"), *, minutes: float = 30.0,
                       minutes=minutes, seed=seed, workers=workers,
                       out=out_dir / "kick_trial.parquet", progress=progress)
     say(f"walk trial, {minutes:g} simulated minutes per variant")
-    walk = walk_trial([AgentSpec("agent", "other-team-walk"), AgentSpec("model", str(walk_model))],
+    # The learned walk open-loop (as the study played it) and inside our balance layer.
+    walk = walk_trial([AgentSpec("agent", "other-team-walk"), AgentSpec("model", str(walk_model)),
+                       AgentSpec("model", str(walk_model), balance=True)],
                       minutes=minutes, seed=seed, workers=workers,
                       out=out_dir / "walk_trial.parquet", progress=progress)
     network = network_summary({"kick_right": kick_metrics, "other_team_walk": walk_metrics})
