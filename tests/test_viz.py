@@ -46,3 +46,22 @@ def test_centre_of_mass_of_standing_robot_is_over_the_feet(stand_recording):
     assert np.all(np.abs(com[:, 1]) < 0.02)
     assert np.all(np.abs(com[:, 0] - feet_x) < 0.06)
     assert np.all((com[:, 2] > 0.2) & (com[:, 2] < 0.35))
+
+
+def test_view_with_a_model_shows_compensated_and_replayed_curves(tmp_path, rerun_cli):
+    from mimic.learn.model_file import save_model
+    from mimic.learn.presets import FAST
+    from mimic.learn.train import TrainConfig, train_model, training_dataset
+    from mimic.recording.recorder import RecordConfig
+
+    source = tmp_path / "kick.mcap"
+    record("kick_right", source, config=RecordConfig(tf_every=5))
+    model = tmp_path / "kick.mimic"
+    save_model(train_model(training_dataset(source, "/joint_states"),
+                           TrainConfig(FAST, epochs=3000)), model)
+    rrd = tmp_path / "view.rrd"
+    logged = view_recording(source, model=model, save=rrd)
+    assert logged["series"] == ["reached", "reference", "learned", "compensated", "replayed"]
+    text = rrd_text(rerun_cli, rrd)
+    for series in ("learned", "compensated", "replayed"):
+        assert f"/joints/legs/right_knee_pitch/{series}" in text

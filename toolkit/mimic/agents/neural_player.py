@@ -65,6 +65,9 @@ class NeuralPlayer(Agent):
         self.name = model.name
         # A learned get-up starts lying, as its recording did.
         self.start_posture = str(model.metadata.get("start_posture", "standing"))
+        # A learned kick wants the ball where its recording had it (robot frame [m]).
+        offset = model.metadata.get("ball_offset_m")
+        self.ball_offset_m = None if offset is None else (float(offset[0]), float(offset[1]))
         self.ended_flag = 0.0
         self._start_s = 0.0
         self._start_rad: np.ndarray | None = None

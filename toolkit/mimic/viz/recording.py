@@ -22,7 +22,12 @@ __all__ = ["log_recording", "recording_blueprint", "view_recording"]
 
 def log_recording(rec: rr.RecordingStream, path: str | Path, *, model: str | Path | None = None
                   ) -> dict:
-    """Log a recording (and optionally a model's prediction on its times) onto ``rec``.
+    """Log a recording (and optionally a model learned from it) onto ``rec``.
+
+    With a model, three more series sit beside the recorded ones: ``learned`` (the network's
+    output on the recording's times), ``compensated`` (the references computed from the
+    observed angles, what a compensated model learns) and ``replayed`` (the angles reached when
+    the network is played in the simulator, as ``mimic record --model`` would).
 
     Returns a short description of what was logged (series names, counts).
     """
@@ -36,7 +41,9 @@ def log_recording(rec: rr.RecordingStream, path: str | Path, *, model: str | Pat
         logged["series"].append("reference")
     if model is not None:
         log_joint_table(rec, _model_table(model, recording), "learned")
-        logged["series"].append("learned")
+        log_joint_table(rec, _compensated_table(recording), "compensated")
+        log_joint_table(rec, _replayed_table(model, recording), "replayed")
+        logged["series"] += ["learned", "compensated", "replayed"]
     tracks = read_tf(recording, in_world=True)
     if tracks:
         log_field(rec)
@@ -82,6 +89,30 @@ def _model_table(model: str | Path, recording):
     times = read_joint_table(recording, recording.joint_topic())["time_s"].to_numpy()
     out = loaded.predict(times)  # (N, 23)
     return pl.DataFrame({"time_s": times, **{n: out[:, i] for i, n in enumerate(JOINT_NAMES)}})
+
+
+def _compensated_table(recording):
+    import polars as pl
+    from mimic.learn.compensate import compensate_references
+    from mimic.robot.joints import JOINT_NAMES
+    table = read_joint_table(recording, JOINT_STATES)
+    refs = compensate_references(table["time_s"].to_numpy(), table.select(JOINT_NAMES).to_numpy())
+    return pl.DataFrame({"time_s": table["time_s"], **{n: refs[:, i] for i, n in
+                                                       enumerate(JOINT_NAMES)}})
+
+
+def _replayed_table(model: str | Path, recording):
+    """Reached angles of the network played in a fresh simulation for the recording's length."""
+    import tempfile
+    from mimic.agents.neural_player import NeuralPlayer
+    from mimic.recording.recorder import RecordConfig, record
+    with tempfile.TemporaryDirectory() as tmp:
+        out = Path(tmp) / "replay.mcap"
+        player = NeuralPlayer.from_file(model)
+        duration = None if player.period_s is None else recording.duration_s
+        # Whole TF is not needed here: only the joint curves are shown.
+        record(player, out, duration_s=duration, config=RecordConfig(tf_every=1000))
+        return read_joint_table(out, JOINT_STATES)
 
 
 def recording_blueprint() -> rrb.Blueprint:
