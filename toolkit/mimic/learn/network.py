@@ -42,6 +42,9 @@ LEAKY_SLOPE = 0.3
 #: Hidden layer widths (the study's).
 HIDDEN_UNITS = (75, 50)
 _F = np.float32
+#: Layer inputs at least this wide get a sample-major copy for the weight gradient (the
+#: 76-wide second layer gains 2.5 us per epoch; the 51-wide third loses).
+_COPY_MIN_WIDTH = 60
 
 
 @dataclass(frozen=True)
@@ -188,10 +191,17 @@ class AdamTrainer:
                       self.slopes[i] if i < n_layers - 1 else None,
                       self.acts[i + 1][:, :-1, :] if i < n_layers - 1 else None)
                      for i in range(n_layers)]
-        self._bwd = [(self.delta[i], self.acts[i].transpose(0, 2, 1), self.gmats[i],
+        # BLAS multiplies delta @ acts^T (inner dimension: the samples) ~1.6x slower through a
+        # transposed view than from a sample-major copy, and for wide layers the copy costs
+        # less than it saves (measured: 10.5 us vs 6.5 + 2.4 us for the 50 x 76 layer; see ``_COPY_MIN_WIDTH``).
+        copies = [np.empty((self.k, self.n, a.shape[1]), dtype=_F)
+                  if a.shape[1] >= _COPY_MIN_WIDTH else None for a in self.acts]
+        self._bwd = [(self.delta[i], copies[i] if copies[i] is not None
+                      else self.acts[i].transpose(0, 2, 1), self.gmats[i],
                       self.mats[i][:, :, :-1].transpose(0, 2, 1) if i > 0 else None,
                       self.delta[i - 1] if i > 0 else None,
-                      self.slopes[i - 1] if i > 0 else None)
+                      self.slopes[i - 1] if i > 0 else None,
+                      self.acts[i].transpose(0, 2, 1) if copies[i] is not None else None)
                      for i in range(n_layers - 1, -1, -1)]
 
     def _forward(self) -> np.ndarray:
@@ -212,7 +222,9 @@ class AdamTrainer:
         d = self.delta[-1]
         np.subtract(self.pre[-1], self.y, out=d)
         d *= self.grad_scale
-        for delta, a_t, g, m_t, prev, s in self._bwd:
+        for delta, a_t, g, m_t, prev, s, a_view in self._bwd:
+            if a_view is not None:
+                np.copyto(a_t, a_view)
             np.matmul(delta, a_t, out=g)
             if m_t is not None:
                 np.matmul(m_t, delta, out=prev)
