@@ -20,8 +20,8 @@ must receive so the joint moves from q[k] to q[k+1]:
   with the joint. The alternative, ``"toward"``, jumps to the first unsaturated reference after
   the segment (the point the joint runs toward); the network can fit such a step only as a
   ramp that starts early. On our kick, learned from observed angles with 4 network seeds, no
-  "toward" model kicked without falling, and one "nearest" model did; the kick is marginal
-  either way. On the other team's walk with balance, both rules finished 28-29 of 32 runs.
+  "toward" model kicked without falling, and one "nearest" model stayed up in 3 of 4 tries;
+  the kick is marginal either way. On the other team's walk with balance, both rules finished 28-29 of 32 runs.
 * finally every reference is clipped to the joint limits widened by ``limit_margin_rad``
   (default cap/gain: a reference that far past a stop already asks for the full speed cap at
   the stop, so clipping there changes no command; farther references only make the network's
