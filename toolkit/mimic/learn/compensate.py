@@ -67,6 +67,9 @@ def compensate_references(time_s: np.ndarray, angles_rad: np.ndarray,
 
     J is 22 for clipping to the robot's joint limits; other widths skip the limit clip.
     """
+    if config.saturated_reference not in ("nearest", "toward"):
+        raise ValueError(f"saturated_reference must be 'nearest' or 'toward', "
+                         f"got {config.saturated_reference!r}")
     t = np.asarray(time_s, dtype=float)
     q = np.asarray(angles_rad, dtype=float)
     gain, cap = config.gain_per_s, config.max_speed_rad_s

@@ -7,11 +7,14 @@ from __future__ import annotations
 from pathlib import Path
 
 import numpy as np
+import polars as pl
 import rerun as rr
 import rerun.blueprint as rrb
 
+from mimic.learn.compensate import compensate_references
 from mimic.recording.layout import BALL_FRAME, JOINT_REFERENCES, JOINT_STATES
 from mimic.recording.reader import read_joint_table, read_recording, read_tf
+from mimic.robot.joints import JOINT_NAMES
 from mimic.viz.curves import curves_blueprint, log_joint_table
 from mimic.viz.gait import centre_of_mass_path, footsteps
 from mimic.viz.paths import ROBOT, WORLD, time_column
@@ -40,9 +43,14 @@ def log_recording(rec: rr.RecordingStream, path: str | Path, *, model: str | Pat
         log_joint_table(rec, read_joint_table(recording, JOINT_REFERENCES), "reference")
         logged["series"].append("reference")
     if model is not None:
-        log_joint_table(rec, _model_table(model, recording), "learned")
-        log_joint_table(rec, _compensated_table(recording), "compensated")
-        log_joint_table(rec, _replayed_table(model, recording), "replayed")
+        from mimic.learn.model_file import load_model
+        loaded = load_model(model)
+        observed = read_joint_table(recording, recording.joint_topic())
+        times = observed["time_s"].to_numpy()
+        log_joint_table(rec, _joint_frame(times, loaded.predict(times)), "learned")
+        log_joint_table(rec, _joint_frame(times, compensate_references(
+            times, observed.select(JOINT_NAMES).to_numpy())), "compensated")
+        log_joint_table(rec, _replayed_table(loaded, recording), "replayed")
         logged["series"] += ["learned", "compensated", "replayed"]
     tracks = read_tf(recording, in_world=True)
     if tracks:
@@ -81,36 +89,23 @@ def _log_gait(rec: rr.RecordingStream, tracks: dict, first_ns: int) -> None:
                     static=True)
 
 
-def _model_table(model: str | Path, recording):
-    from mimic.learn.model_file import load_model
-    import polars as pl
-    from mimic.robot.joints import JOINT_NAMES
-    loaded = load_model(model)
-    times = read_joint_table(recording, recording.joint_topic())["time_s"].to_numpy()
-    out = loaded.predict(times)  # (N, 23)
-    return pl.DataFrame({"time_s": times, **{n: out[:, i] for i, n in enumerate(JOINT_NAMES)}})
+def _joint_frame(times_s: np.ndarray, angles_rad: np.ndarray) -> pl.DataFrame:
+    """A joint table (time_s + the 22 joints) from (N,) times and (N, >= 22) angles."""
+    return pl.DataFrame({"time_s": times_s, **{n: angles_rad[:, i] for i, n in
+                                               enumerate(JOINT_NAMES)}})
 
 
-def _compensated_table(recording):
-    import polars as pl
-    from mimic.learn.compensate import compensate_references
-    from mimic.robot.joints import JOINT_NAMES
-    table = read_joint_table(recording, JOINT_STATES)
-    refs = compensate_references(table["time_s"].to_numpy(), table.select(JOINT_NAMES).to_numpy())
-    return pl.DataFrame({"time_s": table["time_s"], **{n: refs[:, i] for i, n in
-                                                       enumerate(JOINT_NAMES)}})
-
-
-def _replayed_table(model: str | Path, recording):
-    """Reached angles of the network played in a fresh simulation for the recording's length."""
+def _replayed_table(model, recording) -> pl.DataFrame:
+    """Reached angles of the network played in a fresh simulation for the recording's length
+    (through the recorder, so the robot starts and the ball lies as ``mimic record`` has them)."""
     import tempfile
     from mimic.agents.neural_player import NeuralPlayer
     from mimic.recording.recorder import RecordConfig, record
     with tempfile.TemporaryDirectory() as tmp:
         out = Path(tmp) / "replay.mcap"
-        player = NeuralPlayer.from_file(model)
+        player = NeuralPlayer(model)
         duration = None if player.period_s is None else recording.duration_s
-        # Whole TF is not needed here: only the joint curves are shown.
+        # Only the joint curves are shown: /tf once is enough.
         record(player, out, duration_s=duration, config=RecordConfig(tf_every=1000))
         return read_joint_table(out, JOINT_STATES)
 
