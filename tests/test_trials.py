@@ -97,3 +97,13 @@ def test_unknown_variant_is_one_clear_line():
     assert "unknown motion, model or agent 'kik_right'" in result.output
     with pytest.raises(Exception, match="not found"):
         parse_agent_spec("missing.mimic")
+
+
+def test_balance_suffix_wraps_one_model_in_the_balance_layer(tmp_path):
+    model = tmp_path / "kick.mimic"
+    model.write_bytes(b"")  # the spec only checks that the file exists
+    wrapped, plain = parse_agent_spec(f"{model}+balance"), parse_agent_spec(str(model))
+    assert (wrapped.kind, wrapped.ref, wrapped.balance) == ("model", str(model), True)
+    assert not plain.balance and wrapped.label == "kick (learned) + balance"
+    with pytest.raises(Exception, match="wraps learned motions only"):
+        parse_agent_spec("kick_right+balance")

@@ -16,7 +16,8 @@ trial_app = typer.Typer(help="Run the kick and walk trials (original and learned
                         no_args_is_help=True)
 
 _VARIANTS = typer.Argument(help="Variants to try side by side (motion names, .mimic models, "
-                           "agent names); the first is the baseline for ratios.", show_default=False)
+                           "agent names; M.mimic+balance: that model inside the balance layer); "
+                           "the first is the baseline for ratios.", show_default=False)
 _COMPARE = typer.Option("--compare", "-c", help="Compare the variants given (the study's table "
                         "with ratios); reads as: --compare kick_right models/kick_right.mimic.")
 _MOTION = typer.Option("--motion", help="One keyframe motion or agent name to try.")
@@ -34,7 +35,7 @@ def _specs(variants, compare, motion, model, balance, speed_rate, default):
                          "--compare kick_right models/kick_right.mimic")
     if not names:
         names = [default]
-    return [parse_agent_spec(n, balance=balance and n.endswith(".mimic"), speed_rate=speed_rate)
+    return [parse_agent_spec(n, balance=balance and ".mimic" in n, speed_rate=speed_rate)
             for n in names]
 
 

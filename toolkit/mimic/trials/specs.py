@@ -8,7 +8,10 @@ from pathlib import Path
 from mimic.agents.base import Agent
 from mimic.errors import MimicError
 
-__all__ = ["AgentSpec", "parse_agent_spec"]
+__all__ = ["AgentSpec", "parse_agent_spec", "BALANCE_SUFFIX"]
+
+#: Appended to a model path (``kick.mimic+balance``): try that model inside the balance layer.
+BALANCE_SUFFIX = "+balance"
 
 
 @dataclass(frozen=True)
@@ -71,7 +74,13 @@ class AgentSpec:
 
 def parse_agent_spec(text: str, *, balance: bool = False, speed_rate: float = 1.0) -> AgentSpec:
     """``kick_right`` / ``path.txt`` -> motion, ``*.mimic`` -> model, ``other-team-*`` /
-    other registry names -> agent."""
+    other registry names -> agent. ``model.mimic+balance`` wraps that model in the balance
+    layer, so one table can hold a model with and without it."""
+    if text.endswith(BALANCE_SUFFIX):
+        text, balance = text[:-len(BALANCE_SUFFIX)], True
+        if not text.endswith(".mimic"):
+            raise MimicError(f"{text + BALANCE_SUFFIX!r}: the balance layer wraps learned "
+                             "motions only; give a .mimic model, e.g. kick.mimic+balance")
     if text.endswith(".mimic"):
         if not Path(text).is_file():
             raise MimicError(f"model file {text!r} not found; train one with 'mimic train'")
