@@ -20,7 +20,7 @@ from mimic.trials.api import TrialResult, kick_trial, walk_trial
 from mimic.trials.report import STUDY_KICK, STUDY_WALK
 from mimic.trials.specs import AgentSpec
 
-__all__ = ["PaperResult", "record_and_train", "demo", "reproduce_paper", "network_summary"]
+__all__ = ["PaperResult", "record_and_train", "train_and_save", "demo", "reproduce_paper", "network_summary"]
 
 Say = Callable[[str], None]
 
@@ -42,10 +42,22 @@ def record_and_train(agent: str, out_dir: Path, *, observe_only: bool = False,
     mcap = out_dir / f"{slug}.mcap"
     say(f"recording {agent} -> {mcap}")
     record(agent, mcap, seed=seed, observe_only=observe_only, warmup_s=warmup_s)
-    say(f"training on {mcap}")
-    model = train_model(training_dataset(mcap, target=target), TrainConfig(seed=seed))
-    path = save_model(model, out_dir / f"{slug}.mimic")
-    return mcap, path, model.metrics
+    path, metrics = train_and_save(mcap, out_dir / f"{slug}.mimic", target=target, seed=seed,
+                                   say=say)
+    return mcap, path, metrics
+
+
+def train_and_save(mcap: Path, model_path: Path, *, topic: str | None = None,
+                   target: str | None = None, seed: int = 0,
+                   say: Say = _quiet) -> tuple[Path, dict]:
+    """Train a model on one topic of a recording and save it.
+
+    Returns:
+        (model path, the model's training metrics).
+    """
+    say(f"training on {mcap}" + (f" {topic} ({target} angles)" if topic else ""))
+    model = train_model(training_dataset(mcap, topic, target), TrainConfig(seed=seed))
+    return save_model(model, model_path), model.metrics
 
 
 def demo(out_dir: Path = Path("out/demo"), *, minutes: float = 2.0, seed: int = 0,
@@ -89,10 +101,9 @@ def reproduce_paper(out_dir: Path = Path("out/paper"), *, minutes: float = 30.0,
     """
     kick_mcap, kick_model, kick_metrics = record_and_train("kick_right", out_dir, seed=seed,
                                                            say=say)
-    say(f"training on {kick_mcap} {JOINT_STATES} (reached angles)")
-    observed = train_model(training_dataset(kick_mcap, JOINT_STATES, TARGET_REACHED),
-                           TrainConfig(seed=seed))
-    observed_model = save_model(observed, out_dir / "kick_right_observed.mimic")
+    observed_model, observed_metrics = train_and_save(
+        kick_mcap, out_dir / "kick_right_observed.mimic", topic=JOINT_STATES,
+        target=TARGET_REACHED, seed=seed, say=say)
     _, walk_model, walk_metrics = record_and_train("other-team-walk", out_dir, seed=seed,
                                                    say=say, observe_only=True)
     say(f"kick trial, {minutes:g} simulated minutes per variant")
@@ -107,7 +118,7 @@ def reproduce_paper(out_dir: Path = Path("out/paper"), *, minutes: float = 30.0,
                       minutes=minutes, seed=seed, workers=workers,
                       out=out_dir / "walk_trial.parquet", progress=progress)
     network = network_summary({"kick_right": kick_metrics,
-                               "kick_right from /joint_states": observed.metrics,
+                               "kick_right from /joint_states": observed_metrics,
                                "other_team_walk": walk_metrics})
     kick_table = pl.concat([STUDY_KICK, kick.summary.select(STUDY_KICK.columns)],
                            how="vertical_relaxed")

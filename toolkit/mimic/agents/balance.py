@@ -15,7 +15,8 @@ learned walk fell about six times as often). A correction means opposite things 
 * One-shot motions (a kick): the swing leg is doing the motion, so only the support ankle
   corrects (``swing_feedback`` off by default). On our kick learned from ``/joint_states``
   the swing-hip correction made things worse: in 8 seeded kicks per model the four reached-angle
-  copies fell 0/8 each with the support ankle alone; one fell 5/8 without any balance.
+  copies fell 0/8 each with the support ankle alone; one of them fell 5/8 with the swing-hip
+  correction and 8/8 without any balance.
 * Heading: walk engines turn by yawing the feet in each step: the swing foot is put down
   turned by half the step's turn and the support foot turns back by the other half, so the
   torso rotates over the planted foot. We do the same with the hip yaw-pitch joints (their

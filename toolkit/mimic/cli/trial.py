@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from dataclasses import replace
 from pathlib import Path
 from typing import Annotated, Optional
 
@@ -35,8 +36,9 @@ def _specs(variants, compare, motion, model, balance, speed_rate, default):
                          "--compare kick_right models/kick_right.mimic")
     if not names:
         names = [default]
-    return [parse_agent_spec(n, balance=balance and ".mimic" in n, speed_rate=speed_rate)
-            for n in names]
+    specs = [parse_agent_spec(n, speed_rate=speed_rate) for n in names]
+    # --balance wraps every learned motion; keyframe motions and agents stay as they are.
+    return [replace(s, balance=True) if balance and s.kind == "model" else s for s in specs]
 
 
 def _progress_bar(total_min: float | None, total_runs: int | None):
