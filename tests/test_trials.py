@@ -55,6 +55,25 @@ def test_same_seed_same_table_whatever_the_workers(kick_result):
     assert again.rows.drop("variant").equals(kick_result.rows.drop("variant"))
 
 
+def test_printed_table_keeps_every_number_whole_in_80_columns(kick_result):
+    from mimic.cli import trial as cli_trial
+    console = cli_trial.console
+    width = console.width
+    console.width = 80
+    try:
+        with console.capture() as captured:
+            cli_trial._print(kick_result, "kick trial")
+    finally:
+        console.width = width
+    text = captured.get()
+    row = kick_result.summary.row(0, named=True)
+    assert "…" not in text
+    for column in ("attempts", "accuracy_pct", "mean_distance_m", "std_distance_m", "falls"):
+        value = row[column]
+        assert (f"{value:.3g}" if isinstance(value, float) else str(value)) in text
+    assert max(len(line) for line in text.splitlines()) <= 80
+
+
 def test_dashboard_replays_the_first_episode_in_3d(kick_result, tmp_path, rerun_cli):
     trace = kick_result.traces["kick_right"]
     # The trace is the episode as it happened: time runs forward, the ball left the centre spot.

@@ -8,6 +8,7 @@ from typing import Annotated, Optional
 
 import typer
 from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
+from rich import box
 from rich.table import Table
 
 from mimic.cli.common import console, reports_errors
@@ -76,14 +77,15 @@ _SHOWN = {
 
 
 def _print(result, title: str) -> None:
-    table = Table(title=title)
     shown = {c: h for c, h in _SHOWN[result.kind].items() if c in result.summary.columns}
+    rows = [[f"{row[c]:.3g}" if isinstance(row[c], float) else str(row[c]) for c in shown]
+            for row in result.summary.iter_rows(named=True)]
+    # Headers on two lines and no vertical rules: a whole kick table fits in 80 columns.
+    table = Table(title=title, box=box.SIMPLE_HEAD, pad_edge=False, padding=(0, 1, 0, 0))
     for c, header in shown.items():
-        table.add_column(header, justify="left" if c == "variant" else "right",
-                         no_wrap=c == "variant")
-    for row in result.summary.iter_rows(named=True):
-        table.add_row(*[f"{row[c]:.3g}" if isinstance(row[c], float) else str(row[c])
-                        for c in shown])
+        table.add_column(header.replace(" ", "\n"), justify="left" if c == "variant" else "right")
+    for r in rows:
+        table.add_row(*r)
     console.print(table)
     for f in result.files:
         console.print(f"wrote {f}")
