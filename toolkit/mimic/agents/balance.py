@@ -38,10 +38,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from mimic.agents.base import Agent
-from mimic.agents.tracking import TrackingController
+from mimic.agents.base import Agent, JointCommand
 from mimic.robot.joints import joint_index
-from mimic.world.world import CYCLE_S, Observation
+from mimic.geometry import yaw_from_quat
+from mimic.world.base import CYCLE_S, Observation
 
 __all__ = ["BalanceGains", "HeadingGains", "BalancedAgent", "torso_lean_rad", "torso_yaw_rad",
            "foot_yaw_shift_rad"]
@@ -102,8 +102,7 @@ def torso_lean_rad(obs: Observation) -> tuple[float, float]:
 
 def torso_yaw_rad(obs: Observation) -> float:
     """Heading of the torso x axis in the field frame [rad] (0: toward the opponent goal)."""
-    w, x, y, z = obs.torso_quat_wxyz
-    return math.atan2(2 * (w * z + x * y), 1 - 2 * (y * y + z * z))
+    return yaw_from_quat(obs.torso_quat_wxyz)
 
 
 def foot_yaw_shift_rad(yaw_left_rad: float, yaw_right_rad: float) -> np.ndarray:
@@ -120,6 +119,8 @@ def foot_yaw_shift_rad(yaw_left_rad: float, yaw_right_rad: float) -> np.ndarray:
 class BalancedAgent(Agent):
     """Wraps an agent; adds IMU tilt feedback and per-step heading control to its references.
 
+    The corrections use the NAO's leg geometry (its joint names and axes): a NAO-only layer.
+
     Heading control acts on cyclic agents only (``period_s`` set: a walk); ``heading=None``
     switches it off. ``swing_feedback`` sends part of the tilt correction to the swing leg
     (default: on for cyclic agents, whose swing foot lands where the hip puts it; off for
@@ -128,16 +129,16 @@ class BalancedAgent(Agent):
     """
 
     def __init__(self, inner: Agent, gains: BalanceGains = BalanceGains(),
-                 tracking: TrackingController = TrackingController(),
                  heading: HeadingGains | None = HeadingGains(),
                  swing_feedback: bool | None = None) -> None:
         super().__init__()
-        self.inner, self.gains, self.tracking = inner, gains, tracking
+        self.inner, self.gains = inner, gains
         self.heading = heading if inner.period_s else None
         self.swing_feedback = bool(inner.period_s) if swing_feedback is None else swing_feedback
         self.start_posture = inner.start_posture
         self.ball_offset_m = getattr(inner, "ball_offset_m", None)
         self.name, self.team, self.period_s = inner.name, inner.team, inner.period_s
+        self.robot, self.robot_only = "nao", True
         self._idx = {side: {part: joint_index(f"{name}_{part}")
                             for part in ("hip_pitch", "hip_roll", "ankle_pitch", "ankle_roll")}
                      for side, name in _SIDES.items()}
@@ -249,11 +250,11 @@ class BalancedAgent(Agent):
             shift = shift + self.heading_correction_rad()
         return shift
 
-    def act(self, obs: Observation) -> np.ndarray:
-        speeds = self.inner.act(obs)
+    def act(self, obs: Observation) -> JointCommand:
+        command = self.inner.act(obs)
         self.done = self.inner.done
         if self.inner.reference_rad is None:
-            return speeds
+            return command
         ref = self.inner.reference_rad
         self.reference_rad = ref + self.correction_rad(obs, ref)
-        return self.tracking.speeds(self.reference_rad, obs.joint_angles_rad)
+        return JointCommand.references(self.reference_rad)

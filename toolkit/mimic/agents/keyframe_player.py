@@ -1,13 +1,12 @@
-"""Plays a keyframe movement: spline references tracked by the proportional controller."""
+"""Plays a keyframe movement: spline references, tracked by the robot's actuator model."""
 
 from __future__ import annotations
 
 import numpy as np
 
-from mimic.agents.base import Agent
-from mimic.agents.tracking import TrackingController
+from mimic.agents.base import Agent, JointCommand
 from mimic.motion.keyframe import Movement
-from mimic.world.world import Observation
+from mimic.world.base import Observation
 
 __all__ = ["KeyframePlayer"]
 
@@ -17,12 +16,12 @@ class KeyframePlayer(Agent):
 
     team = "mimic"
 
-    def __init__(self, movement: Movement, tracking: TrackingController = TrackingController(),
-                 hold_s: float = 0.0) -> None:
+    def __init__(self, movement: Movement, hold_s: float = 0.0) -> None:
         """``hold_s``: keep tracking the last keyframe this long after the movement ends."""
         super().__init__()
-        self.movement, self.tracking, self.hold_s = movement, tracking, hold_s
+        self.movement, self.hold_s = movement, hold_s
         self.name = movement.name
+        self.robot = movement.robot
         self.start_posture = movement.start_posture
         self._start_s = 0.0
         self._spline = movement.spline()
@@ -32,8 +31,8 @@ class KeyframePlayer(Agent):
         self._spline = self.movement.spline(obs.joint_angles_rad)
         self.done = False
 
-    def act(self, obs: Observation) -> np.ndarray:
+    def act(self, obs: Observation) -> JointCommand:
         t = obs.time_s - self._start_s
         self.reference_rad = self._spline(t)
         self.done = t >= self.movement.duration_s + self.hold_s - 1e-9
-        return self.tracking.speeds(self.reference_rad, obs.joint_angles_rad)
+        return JointCommand.references(self.reference_rad)

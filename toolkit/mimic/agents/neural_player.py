@@ -1,5 +1,5 @@
-"""Plays a learned motion: the network gives references each 20 ms cycle, tracked by the same
-proportional controller as the keyframe player (so a learned copy meets the same attenuation).
+"""Plays a learned motion: the network gives references each 20 ms cycle, tracked by the robot's
+actuator model like the keyframe player's (so a learned copy meets the same attenuation).
 
 Cyclic motions (a walk) are learned from whole gait cycles at steady speed; jumping from the
 stand pose straight into mid-gait at full rate throws the robot over within seconds. So a
@@ -17,11 +17,9 @@ from pathlib import Path
 
 import numpy as np
 
-from mimic.agents.base import Agent
-from mimic.agents.tracking import TrackingController
+from mimic.agents.base import Agent, JointCommand
 from mimic.learn.model import MotionModel
-from mimic.robot.joints import NUM_JOINTS
-from mimic.world.world import Observation
+from mimic.world.base import Observation
 
 __all__ = ["NeuralPlayer", "DEFAULT_STANCE_S", "DEFAULT_START_RAMP_S"]
 
@@ -54,12 +52,12 @@ class NeuralPlayer(Agent):
 
     team = "mimic"
 
-    def __init__(self, model: MotionModel, tracking: TrackingController = TrackingController(),
-                 speed_rate: float = 1.0, max_overrun_s: float = 1.0,
+    def __init__(self, model: MotionModel, speed_rate: float = 1.0, max_overrun_s: float = 1.0,
                  stance_s: float = DEFAULT_STANCE_S,
                  start_ramp_s: float = DEFAULT_START_RAMP_S) -> None:
         super().__init__()
-        self.model, self.tracking = model, tracking
+        self.model = model
+        self.robot = model.robot
         self.speed_rate, self.max_overrun_s = speed_rate, max_overrun_s
         self.stance_s, self.start_ramp_s = float(stance_s), float(start_ramp_s)
         self.name = model.name
@@ -102,7 +100,7 @@ class NeuralPlayer(Agent):
         """(22,) mean joint reference over one cycle of a cyclic model [rad]."""
         if self._mean_rad is None:
             t = np.arange(_MEAN_SAMPLES) * (self.model.period_s / _MEAN_SAMPLES)
-            self._mean_rad = self.model.predict(t)[:, :NUM_JOINTS].mean(axis=0)
+            self._mean_rad = self.model.predict(t)[:, :self.model.num_joints].mean(axis=0)
         return self._mean_rad
 
     def start_weights(self, t_s: float) -> tuple[float, float]:
@@ -120,19 +118,21 @@ class NeuralPlayer(Agent):
         if stance >= 1.0 and swing >= 1.0:
             return out
         mean = self.mean_pose_rad()
-        q = mean + swing * (out[:NUM_JOINTS] - mean)
+        n = self.model.num_joints
+        q = mean + swing * (out[:n] - mean)
         if self._start_rad is not None:
             q = (1.0 - stance) * self._start_rad + stance * q
         out = out.copy()
-        out[:NUM_JOINTS] = q
+        out[:n] = q
         return out
 
-    def act(self, obs: Observation) -> np.ndarray:
+    def act(self, obs: Observation) -> JointCommand:
         t = obs.time_s - self._start_s
         out = self.cyclic_reference(t) if self.model.cyclic else self.reference_at(t)
-        self.reference_rad = out[:NUM_JOINTS]
-        self.ended_flag = float(out[NUM_JOINTS])
+        n = self.model.num_joints
+        self.reference_rad = out[:n]
+        self.ended_flag = float(out[n])
         if not self.model.cyclic:
             self.done = (self.ended_flag > 0.5
                          or t >= self.model.duration_s + self.max_overrun_s - 1e-9)
-        return self.tracking.speeds(self.reference_rad, obs.joint_angles_rad)
+        return JointCommand.references(self.reference_rad)

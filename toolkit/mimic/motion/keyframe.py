@@ -1,6 +1,6 @@
 """Keyframe motions as the study defines them.
 
-A keyframe is 22 joint angles; a keyframe step is (keyframe, time); a movement is a list of
+A keyframe is one angle per joint of the robot; a keyframe step is (keyframe, time); a movement is a list of
 steps plus a speed rate r that divides every step time. References between steps come from a
 C2 natural cubic spline through the keyframes.
 """
@@ -12,7 +12,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from mimic.motion.spline import NaturalCubicSpline
-from mimic.robot.joints import NUM_JOINTS
+from mimic.robot.registry import get_robot
+from mimic.world.base import POSTURES
 
 __all__ = ["KeyframeStep", "Movement"]
 
@@ -22,7 +23,7 @@ class KeyframeStep:
     """A keyframe and the time to reach it from the previous step.
 
     Attributes:
-        angles_rad: (22,) joint angles [rad], joint-table order.
+        angles_rad: (N,) joint angles [rad], the robot's joint order.
         time_s: time from the previous keyframe (or from the start) to this one [s].
     """
 
@@ -30,8 +31,9 @@ class KeyframeStep:
     time_s: float
 
     def __post_init__(self) -> None:
-        if np.shape(self.angles_rad) != (NUM_JOINTS,):
-            raise ValueError(f"a keyframe has {NUM_JOINTS} angles, got {np.shape(self.angles_rad)}")
+        if np.ndim(self.angles_rad) != 1:
+            raise ValueError(f"a keyframe is a vector of angles, got shape "
+                             f"{np.shape(self.angles_rad)}")
         if self.time_s < 0:
             raise ValueError(f"step time must be >= 0 s, got {self.time_s}")
 
@@ -44,8 +46,8 @@ class KeyframeStep:
                 and bool(np.allclose(self.angles_rad, other.angles_rad, rtol=0.0, atol=1e-9)))
 
 
-#: How a motion may start: on the feet, or lying on the front or the back (``World.beam``).
-START_POSTURES = ("standing", "lying_front", "lying_back")
+#: How a motion may start: on the feet, or lying on the front or the back.
+START_POSTURES = POSTURES
 
 
 @dataclass(frozen=True)
@@ -62,6 +64,7 @@ class Movement:
         start_posture: how the robot lies or stands when the motion starts: ``standing``,
             ``lying_front`` or ``lying_back`` (the get-ups); recorders and checks set the
             robot up this way.
+        robot: the robot whose joints the keyframes hold (``mimic robots``).
     """
 
     name: str
@@ -69,10 +72,16 @@ class Movement:
     speed_rate: float = 1.0
     ball_offset_m: tuple[float, float] | None = None
     start_posture: str = "standing"
+    robot: str = "nao"
 
     def __post_init__(self) -> None:
         if not self.steps:
             raise ValueError(f"motion {self.name!r} has no steps")
+        n = get_robot(self.robot).num_joints
+        for step in self.steps:
+            if np.shape(step.angles_rad) != (n,):
+                raise ValueError(f"a {self.robot} keyframe has {n} angles, got "
+                                 f"{np.shape(step.angles_rad)[0]}")
         if self.start_posture not in START_POSTURES:
             raise ValueError(f"start posture must be one of {', '.join(START_POSTURES)}, "
                              f"got {self.start_posture!r}")
@@ -106,4 +115,4 @@ class Movement:
 
     def with_speed_rate(self, speed_rate: float) -> "Movement":
         return Movement(self.name, self.steps, speed_rate, self.ball_offset_m,
-                        self.start_posture)
+                        self.start_posture, self.robot)

@@ -19,7 +19,7 @@ from mcap_ros2.decoder import DecoderFactory
 
 from mimic.errors import RecordingError
 from mimic.recording import layout as L
-from mimic.recording.quat import quat_mul as _quat_mul, rotate as _rotate
+from mimic.geometry import quat_mul as _quat_mul, rotate as _rotate
 from mimic.robot.joints import JOINT_NAMES, SIM_NAMES, UnknownJointError, resolve_joint_names
 
 __all__ = ["Recording", "TopicInfo", "RecoveryReport", "TfTrack", "read_recording",

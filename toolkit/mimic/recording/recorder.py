@@ -27,7 +27,7 @@ from mimic.agents.base import Agent
 from mimic.agents.tracking import TrackingController
 from mimic.errors import MimicError
 from mimic.recording import layout as L
-from mimic.recording.quat import quat_mul, rotate
+from mimic.geometry import quat_mul, rotate
 from mimic.recording.writer import RecordingWriter
 from mimic.robot.description import BODIES
 from mimic.robot.urdf import robot_urdf

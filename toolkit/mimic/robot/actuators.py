@@ -90,6 +90,11 @@ class SpeedServos:
             return np.clip(command.speed_rad_s, -self.max_speed_rad_s, self.max_speed_rad_s)
         return self.track(command.reference_rad, angles_rad)
 
+    def controls(self, command: JointCommand, angles_rad: np.ndarray,
+                 robot_name: str = "") -> np.ndarray:
+        """(N,) MuJoCo controls: the velocity servos' speed commands [rad/s]."""
+        return self.speed_commands(command, angles_rad)
+
     def describe(self) -> str:
         return f"speed servos, capped at {self.max_speed_rad_s:g} rad/s"
 
@@ -117,6 +122,12 @@ class PDMotors:
             raise MimicError(f"{robot_name} has PD motors, which take joint references; this "
                              "agent sends joint speeds (a NAO-only controller)")
         return command.reference_rad
+
+    def controls(self, command: JointCommand, angles_rad: np.ndarray,
+                 robot_name: str = "this robot") -> np.ndarray:
+        """(N,) MuJoCo controls: the position actuators' targets [rad] (their kp and kv are
+        the motors' gains, so MuJoCo applies the PD law every physics step)."""
+        return self.targets(command, robot_name)
 
     def describe(self) -> str:
         kp = np.asarray(self.kp_nm_rad)

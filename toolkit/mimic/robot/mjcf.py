@@ -8,37 +8,19 @@ velocity servos are stable), elliptic friction cones, joint armature and a littl
 
 from __future__ import annotations
 
-from dataclasses import dataclass
 from xml.sax.saxutils import quoteattr
 
+from mimic.robot.actuators import SpeedServos
 from mimic.robot.description import BODIES, Body
 from mimic.robot.joints import JOINTS
 
-__all__ = ["ActuatorConfig", "robot_worldbody_xml", "robot_actuator_xml", "robot_sensor_xml",
-           "robot_default_xml", "MAX_JOINT_SPEED_RAD_S", "FOOT_SITES", "IMU_SITE"]
+__all__ = ["robot_worldbody_xml", "robot_actuator_xml", "robot_sensor_xml",
+           "robot_default_xml", "FOOT_SITES", "IMU_SITE"]
 
-#: The simulator's cap on commanded joint speed [rad/s] (7.035 deg per 20 ms cycle).
-MAX_JOINT_SPEED_RAD_S = 6.1395
 #: Sites under the soles carrying the foot-contact (touch) sensors, left then right.
 FOOT_SITES = ("left_sole", "right_sole")
 #: Site at the torso centre carrying the gyro, accelerometer and orientation sensors.
 IMU_SITE = "imu"
-
-
-@dataclass(frozen=True)
-class ActuatorConfig:
-    """Joint motor settings shared by all 22 hinges."""
-
-    # Velocity-servo gain [N m s / rad]: torque = kv * (commanded - actual speed).
-    kv_nm_s_rad: float = 5.0
-    # Motor torque limit [N m] (the simulator's maximum motor force is 10).
-    max_torque_nm: float = 10.0
-    # Command cap [rad/s].
-    max_speed_rad_s: float = MAX_JOINT_SPEED_RAD_S
-    # Reflected rotor inertia added to each hinge [kg m^2]; stabilises light links.
-    armature_kg_m2: float = 0.002
-    # Passive viscous damping [N m s / rad].
-    damping_nm_s_rad: float = 0.02
 
 
 def _f(values) -> str:
@@ -104,7 +86,7 @@ def robot_worldbody_xml(torso_pos_m=(0.0, 0.0, 0.385)) -> str:
                        f'<body name="torso" pos="{_f(torso_pos_m)}">', 1)
 
 
-def robot_default_xml(config: ActuatorConfig = ActuatorConfig()) -> str:
+def robot_default_xml(config: SpeedServos = SpeedServos()) -> str:
     """Default classes: joint settings and collide / visual geometry.
 
     Robot geoms have contype 2 and conaffinity 1, so they touch the world (conaffinity 3)
@@ -124,7 +106,7 @@ def robot_default_xml(config: ActuatorConfig = ActuatorConfig()) -> str:
     </default>"""
 
 
-def robot_actuator_xml(config: ActuatorConfig = ActuatorConfig()) -> str:
+def robot_actuator_xml(config: SpeedServos = SpeedServos()) -> str:
     """One velocity servo per joint, in joint-table order (actuator i drives JOINTS[i])."""
     v, t = config.max_speed_rad_s, config.max_torque_nm
     rows = [

@@ -14,7 +14,7 @@ import math
 
 from mimic.robot.description import BODIES, Body
 from mimic.robot.joints import JOINTS
-from mimic.robot.mjcf import ActuatorConfig
+from mimic.robot.actuators import SpeedServos
 
 __all__ = ["robot_urdf", "ROBOT_NAME", "shape_inertia"]
 
@@ -77,7 +77,7 @@ def _link(body: Body) -> str:
     return "\n".join(lines)
 
 
-def _joint(body: Body, actuator: ActuatorConfig) -> str:
+def _joint(body: Body, actuator: SpeedServos) -> str:
     joint = next(j for j in JOINTS if j.name == body.joint)
     parent = next(b for b in BODIES if b.name == body.parent)
     return (f'  <joint name="{joint.name}" type="revolute">'
@@ -89,7 +89,7 @@ def _joint(body: Body, actuator: ActuatorConfig) -> str:
             f'</joint>')
 
 
-def robot_urdf(actuator: ActuatorConfig = ActuatorConfig()) -> str:
+def robot_urdf(actuator: SpeedServos = SpeedServos()) -> str:
     """The robot as URDF text: 23 links (root ``torso``) and 22 revolute joints."""
     parts = [f'<?xml version="1.0"?>', f'<robot name="{ROBOT_NAME}">',
              '  <material name="grey"><color rgba="0.75 0.75 0.8 1"/></material>']

@@ -1,5 +1,11 @@
 """The MuJoCo scene: field with lines, two goals, the ball and the robot.
 
+Our NAO's robot part is generated from its description (``robot/mjcf.py``); a robot that
+comes as an MJCF file (the league's T1 and K1) is attached to the same field
+(``world/attach.py``). Either way the model has, for every joint, one actuator named after
+the joint, and the sensors ``gyro``, ``accelerometer``, ``torso_quat`` (at the robot's IMU site)
+and a touch sensor under each sole (``FOOT_TOUCH_SENSORS``).
+
 The ball has condim 6 (sliding, torsional and rolling friction) so a kicked ball slows down
 and stops like on grass instead of rolling forever.
 """
@@ -9,11 +15,18 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from mimic.robot.mjcf import (ActuatorConfig, robot_actuator_xml, robot_default_xml,
+import mujoco
+
+from mimic.robot.actuators import SpeedServos
+from mimic.robot.mjcf import (FOOT_SITES, robot_actuator_xml, robot_default_xml,
                               robot_sensor_xml, robot_worldbody_xml)
+from mimic.robot.model import RobotDescription
 from mimic.world import field as F
 
-__all__ = ["PhysicsConfig", "scene_xml"]
+__all__ = ["PhysicsConfig", "scene_xml", "build_model", "FOOT_TOUCH_SENSORS"]
+
+#: Touch sensors under the left and right sole, in every scene.
+FOOT_TOUCH_SENSORS = tuple(f"{site}_touch" for site in FOOT_SITES)
 
 
 @dataclass(frozen=True)
@@ -28,7 +41,12 @@ class PhysicsConfig:
     ball_torsional_friction_m: float = 0.005
     # Sliding friction of feet and body on the grass.
     ground_friction: float = 1.0
-    actuators: ActuatorConfig = ActuatorConfig()
+
+    @classmethod
+    def for_robot(cls, robot: RobotDescription) -> "PhysicsConfig":
+        """The settings a robot is simulated with: the study's 4 ms step for our NAO, the
+        league server's 5 ms step for robots loaded from its MJCF files."""
+        return cls() if robot.mjcf_path is None else cls(timestep_s=0.005)
 
 
 def _field_lines_xml() -> str:
@@ -75,8 +93,19 @@ def _goal_xml(name: str, sign: int) -> str:
     </body>"""
 
 
-def scene_xml(config: PhysicsConfig = PhysicsConfig()) -> str:
-    """The whole world as one MJCF document."""
+def build_model(robot: RobotDescription, physics: PhysicsConfig) -> mujoco.MjModel:
+    """The compiled scene with ``robot`` in it."""
+    if robot.mjcf_path is None:
+        return mujoco.MjModel.from_xml_string(scene_xml(physics, robot.actuator))
+    from mimic.world.attach import attached_robot_model
+
+    return attached_robot_model(robot, physics)
+
+
+def scene_xml(config: PhysicsConfig = PhysicsConfig(),
+              servos: SpeedServos | None = SpeedServos()) -> str:
+    """The whole world as one MJCF document, with our NAO (or, for ``servos=None``, without
+    a robot: the field a robot from an MJCF file is attached to)."""
     half_l, half_w = F.FIELD_LENGTH_M / 2 + 2, F.FIELD_WIDTH_M / 2 + 2
     b = config
     return f"""<mujoco model="mimic_soccer">
@@ -95,7 +124,7 @@ def scene_xml(config: PhysicsConfig = PhysicsConfig()) -> str:
              width="256" height="256"/>
     <material name="grass" texture="grass" texrepeat="30 20"/>
   </asset>
-  {robot_default_xml(b.actuators)}
+  {robot_default_xml(servos) if servos else ""}
   <default>
     <default class="line">
       <geom type="box" contype="0" conaffinity="0" rgba="1 1 1 1" group="2"/>
@@ -120,9 +149,9 @@ def scene_xml(config: PhysicsConfig = PhysicsConfig()) -> str:
             condim="6" contype="1" conaffinity="3" friction="0.8 {b.ball_torsional_friction_m} {b.ball_rolling_friction_m}"
             solref="0.005 0.6" rgba="1 0.5 0 1"/>
     </body>
-{robot_worldbody_xml()}
+{robot_worldbody_xml() if servos else ""}
   </worldbody>
-{robot_actuator_xml(b.actuators)}
-{robot_sensor_xml()}
+{robot_actuator_xml(servos) if servos else ""}
+{robot_sensor_xml() if servos else ""}
 </mujoco>
 """

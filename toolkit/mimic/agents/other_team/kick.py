@@ -13,13 +13,13 @@ import math
 
 import numpy as np
 
-from mimic.agents.base import Agent
+from mimic.agents.base import Agent, JointCommand
 from mimic.agents.other_team.ik import LEG
 from mimic.agents.other_team.motor import (LEG_IDX, legs_to_joints, servo_speeds,
                                            torso_pitch_roll)
 from mimic.agents.other_team.params import KickParams
-from mimic.robot.joints import NUM_JOINTS
-from mimic.world.world import CYCLE_S, Observation
+from mimic.robot.nao import nao
+from mimic.world.base import CYCLE_S, Observation
 
 __all__ = ["OtherTeamKick"]
 
@@ -33,6 +33,8 @@ class OtherTeamKick(Agent):
     name = "other_team_kick"
     team = "other_team"
     period_s = None
+    # Its IK and kick are the NAO's geometry.
+    robot_only = True
 
     def __init__(self, params: KickParams = KickParams()) -> None:
         super().__init__()
@@ -55,7 +57,7 @@ class OtherTeamKick(Agent):
         self._marks = marks
         self.duration_s = t
         self._cycle = 0
-        self._start_rad = np.zeros(NUM_JOINTS)
+        self._start_rad = nao().zeros()
 
     def reset(self, obs: Observation) -> None:
         self._cycle = 0
@@ -84,7 +86,7 @@ class OtherTeamKick(Agent):
             feet[side] = (pos, np.eye(3))
         return feet
 
-    def act(self, obs: Observation) -> np.ndarray:
+    def act(self, obs: Observation) -> JointCommand:
         p = self.params
         self._cycle += 1
         t = self._cycle * CYCLE_S
@@ -106,4 +108,4 @@ class OtherTeamKick(Agent):
         if airborne:
             target[LEG_IDX[_SUPPORT][1]] -= p.hip_roll_gain * roll
         self.done = t >= self.duration_s + p.settle_s
-        return servo_speeds(target, obs.joint_angles_rad, p.servo)
+        return JointCommand.speeds(servo_speeds(target, obs.joint_angles_rad, p.servo))

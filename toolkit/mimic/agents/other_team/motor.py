@@ -2,15 +2,14 @@
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 
 from mimic.agents.other_team.ik import leg_ik
 from mimic.agents.other_team.params import ServoParams
-from mimic.robot.joints import NUM_JOINTS, joint_index, lower_limits_rad, upper_limits_rad
-from mimic.robot.mjcf import MAX_JOINT_SPEED_RAD_S
-from mimic.world.world import CYCLE_S
+from mimic.geometry import torso_pitch_roll
+from mimic.robot.joints import joint_index
+from mimic.robot.nao import nao
+from mimic.world.base import CYCLE_S
 
 __all__ = ["LEG_IDX", "ARM_IDX", "legs_to_joints", "servo_speeds", "torso_pitch_roll"]
 
@@ -29,12 +28,12 @@ def legs_to_joints(feet: dict[float, tuple[np.ndarray, np.ndarray]],
 
     The poses are in the torso frame; the head is held straight and the arms still.
     """
-    q = np.zeros(NUM_JOINTS)
+    q = nao().zeros()
     for side, (pos, rot) in feet.items():
         q[LEG_IDX[side]] = leg_ik(side, pos, rot)
         q[ARM_IDX[side]] = (shoulder_pitch_rad, side * shoulder_roll_rad)
     # Both yaw-pitch hinges stay equal on the real robot; here each leg keeps its own.
-    return np.clip(q, lower_limits_rad(), upper_limits_rad())
+    return nao().clip(q)
 
 
 def servo_speeds(target_next_rad: np.ndarray, angles_rad: np.ndarray,
@@ -48,18 +47,6 @@ def servo_speeds(target_next_rad: np.ndarray, angles_rad: np.ndarray,
     speed = servo.gain * (target_next_rad - angles_rad) / CYCLE_S
     if target_now_rad is not None and servo.feedforward:
         speed = speed + servo.feedforward * (target_next_rad - target_now_rad) / CYCLE_S
-    return np.clip(speed, -MAX_JOINT_SPEED_RAD_S, MAX_JOINT_SPEED_RAD_S)
+    cap = nao().actuator.max_speed_rad_s
+    return np.clip(speed, -cap, cap)
 
-
-def torso_pitch_roll(quat_wxyz: np.ndarray) -> tuple[float, float]:
-    """Torso pitch (positive: leaning forward) and roll (positive: leaning left) [rad].
-
-    Measured in the torso's heading frame, so they do not depend on where it faces.
-    """
-    w, x, y, z = quat_wxyz
-    # Torso z axis in the world (third column of the rotation) and the heading.
-    zx, zy, zz = 2 * (x * z + w * y), 2 * (y * z - w * x), 1 - 2 * (x * x + y * y)
-    yaw = math.atan2(2 * (w * z + x * y), 1 - 2 * (y * y + z * z))
-    c, s = math.cos(yaw), math.sin(yaw)
-    fwd, left = c * zx + s * zy, -s * zx + c * zy
-    return math.atan2(fwd, zz), math.atan2(left, zz)

@@ -20,13 +20,13 @@ import math
 
 import numpy as np
 
-from mimic.agents.base import Agent
+from mimic.agents.base import Agent, JointCommand
 from mimic.agents.other_team.ik import LEG, rot_y, rot_z
 from mimic.agents.other_team.motor import (LEG_IDX, legs_to_joints, servo_speeds,
                                            torso_pitch_roll)
 from mimic.agents.other_team.params import WalkParams
-from mimic.robot.joints import NUM_JOINTS
-from mimic.world.world import CYCLE_S, Observation
+from mimic.robot.nao import nao
+from mimic.world.base import CYCLE_S, Observation
 
 __all__ = ["OtherTeamWalk", "GRAVITY_M_S2"]
 
@@ -39,6 +39,8 @@ class OtherTeamWalk(Agent):
 
     name = "other_team_walk"
     team = "other_team"
+    # Its IK and gait are the NAO's geometry.
+    robot_only = True
 
     def __init__(self, params: WalkParams = WalkParams()) -> None:
         super().__init__()
@@ -47,7 +49,7 @@ class OtherTeamWalk(Agent):
         self.period_s = 2 * self.step_s
         self._k_m = math.sqrt(GRAVITY_M_S2 / params.walk_height_m)
         self._startup_cycles = max(1, round(params.startup_s / CYCLE_S))
-        self._reset_state(np.zeros(NUM_JOINTS), 0.0)
+        self._reset_state(nao().zeros(), 0.0)
 
     # --- state ----------------------------------------------------------------------------
     def _reset_state(self, start_rad: np.ndarray, yaw_rad: float,
@@ -156,10 +158,11 @@ class OtherTeamWalk(Agent):
                 q[idx[1]] += p.hip_share * d_roll
         return q
 
-    def act(self, obs: Observation) -> np.ndarray:
+    def act(self, obs: Observation) -> JointCommand:
         planned_now = self._nominal_rad
         target = self.targets_rad(obs)
         self._cycle += 1
         # Feed forward the plan's own speed only: the IMU feedback is too noisy to differentiate.
-        return servo_speeds(target, obs.joint_angles_rad, self.params.servo,
-                            target_now_rad=planned_now + (target - self._nominal_rad))
+        return JointCommand.speeds(servo_speeds(
+            target, obs.joint_angles_rad, self.params.servo,
+            target_now_rad=planned_now + (target - self._nominal_rad)))

@@ -2,10 +2,10 @@
 
 from __future__ import annotations
 
-from mimic.agents.walk.engine import WalkEngine, stand_pose_rad
+from mimic.agents.walk.engine import WalkEngine
 from mimic.agents.walk.gait import WalkConfig
 
-__all__ = ["WalkEngine", "WalkConfig", "make_walk_agent", "stand_pose_rad"]
+__all__ = ["WalkEngine", "WalkConfig", "make_walk_agent"]
 
 
 def make_walk_agent(vx_m_s: float = 0.45, vy_m_s: float = 0.0, yaw_rate_rad_s: float = 0.0,

@@ -4,7 +4,7 @@ Each 20 ms cycle the engine advances the step phase (a step lasts a whole number
 places both feet in the level walk frame (``gait.feet_at``), tilts them into the torso frame
 by the torso lean, solves both legs with the closed-form IK, adds IMU feedback (torso tilt
 onto the swing hip and the ankles, gyro damping onto the ankles), and tracks the references
-with the proportional ``TrackingController`` plus a feed-forward term: the planned
+with the NAO's proportional tracking (``SpeedServos.track``) plus a feed-forward term: the planned
 (feedback-free) reference's own speed over the cycle, so the speed-capped joints do not lag
 the gait by 1/gain, while the noisy IMU feedback is never differentiated.
 
@@ -29,16 +29,15 @@ import math
 
 import numpy as np
 
-from mimic.agents.base import Agent
-from mimic.agents.tracking import TrackingController
+from mimic.agents.base import Agent, JointCommand
 from mimic.agents.walk.gait import StepPlan, WalkConfig, feet_at, nominal_foot, plan_step
-from mimic.motion.files import stand_pose_rad
+from mimic.geometry import torso_pitch_roll as _pitch_roll_left
 from mimic.robot.joints import joint_index
 from mimic.robot.leg_ik import leg_ik, leg_joint_indices
-from mimic.robot.mjcf import MAX_JOINT_SPEED_RAD_S
-from mimic.world.world import CYCLE_S, Observation
+from mimic.robot.nao import nao
+from mimic.world.base import CYCLE_S, Observation
 
-__all__ = ["WalkEngine", "stand_pose_rad", "torso_pitch_roll"]
+__all__ = ["WalkEngine", "torso_pitch_roll"]
 
 _LEGS = (leg_joint_indices("left"), leg_joint_indices("right"))
 _SIDES = ("left", "right")
@@ -46,16 +45,13 @@ _SHOULDERS = (joint_index("left_shoulder_pitch"), joint_index("right_shoulder_pi
 
 
 def torso_pitch_roll(q_wxyz: np.ndarray) -> tuple[float, float]:
-    """Torso pitch (positive = leaning forward) and roll (positive = leaning right) [rad]."""
-    w, x, y, z = q_wxyz
-    # Torso z axis in the world, then seen in the heading frame.
-    zx = 2 * (x * z + w * y)
-    zy = 2 * (y * z - w * x)
-    zz = 1 - 2 * (x * x + y * y)
-    yaw = math.atan2(2 * (w * z + x * y), 1 - 2 * (y * y + z * z))
-    c, s = math.cos(yaw), math.sin(yaw)
-    fwd, left = c * zx + s * zy, -s * zx + c * zy
-    return math.atan2(fwd, zz), math.atan2(-left, zz)
+    """Torso pitch (positive = leaning forward) and roll (positive = leaning *right*) [rad].
+
+    The engine's gains were written for a right-positive roll: this is ``geometry``'s
+    left-positive roll negated, nothing more.
+    """
+    pitch, roll_left = _pitch_roll_left(q_wxyz)
+    return pitch, -roll_left
 
 
 def _wrap(a: float) -> float:
@@ -82,14 +78,15 @@ class WalkEngine(Agent):
 
     name = "walk"
     team = "mimic"
+    # The gait, IK and feedback are the NAO's geometry.
+    robot_only = True
 
-    def __init__(self, config: WalkConfig = WalkConfig(),
-                 tracking: TrackingController | None = None) -> None:
+    def __init__(self, config: WalkConfig = WalkConfig()) -> None:
         super().__init__()
         self.config = config
-        self.tracking = tracking or TrackingController(gain_per_s=config.tracking_gain_per_s)
+        self._servos = nao().actuator
         self.period_s = 2 * config.step_time_s
-        self._stand = stand_pose_rad()
+        self._stand = nao().stand_pose()
         self._velocity = np.zeros(3)
         self._stop_requested = False
         self._state = "standing"
@@ -170,7 +167,7 @@ class WalkEngine(Agent):
                 self._halt_hold = (self._prev_ref if self._prev_ref is not None
                                    else self._blend_from).copy()
 
-    def act(self, obs: Observation) -> np.ndarray:
+    def act(self, obs: Observation) -> JointCommand:
         cfg = self.config
         self._update_heading(obs)
         pitch, roll = torso_pitch_roll(obs.torso_quat_wxyz)
@@ -180,17 +177,17 @@ class WalkEngine(Agent):
         # gap to them, the feed-forward term adds the plan's own speed over the cycle.
         nominal, ref = self._reference(obs)
         aim = ref if self._prev_ref is None or not cfg.track_previous else self._prev_ref
-        speeds = self.tracking.speeds(aim, obs.joint_angles_rad)
+        speeds = self._servos.track(aim, obs.joint_angles_rad, cfg.tracking_gain_per_s)
         if self._prev_nominal is not None:
             planned = nominal - self._prev_nominal
             feedback = (ref - nominal) - (self._prev_ref - self._prev_nominal)
             speeds = np.clip(speeds + (cfg.feedforward * planned
                                        + cfg.feedback_feedforward * feedback) / CYCLE_S,
-                             -MAX_JOINT_SPEED_RAD_S, MAX_JOINT_SPEED_RAD_S)
+                             -self._servos.max_speed_rad_s, self._servos.max_speed_rad_s)
         self._prev_nominal = nominal
         self._prev_ref = ref
         self.reference_rad = ref
-        return speeds
+        return JointCommand.speeds(speeds)
 
     # --- heading and line -----------------------------------------------------------------
     def _update_heading(self, obs: Observation) -> None:

@@ -24,9 +24,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from mimic.agents.base import Agent
+from mimic.agents.base import Agent, JointCommand
 from mimic.agents.walk.engine import WalkEngine
-from mimic.world.world import CYCLE_S, Observation
+from mimic.world.base import CYCLE_S, Observation
 
 __all__ = ["GoToConfig", "GoToPose", "pose_behind_ball", "wrap_angle"]
 
@@ -100,6 +100,7 @@ class GoToPose(Agent):
 
     name = "goto"
     team = "mimic"
+    robot_only = True
 
     def __init__(self, engine: WalkEngine, config: GoToConfig = GoToConfig()) -> None:
         super().__init__()
@@ -156,7 +157,7 @@ class GoToPose(Agent):
         self._arrived = False
         self.done = False
 
-    def act(self, obs: Observation) -> np.ndarray:
+    def act(self, obs: Observation) -> JointCommand:
         if self._target is not None:
             self._steer(obs)
         speeds = self.engine.act(obs)

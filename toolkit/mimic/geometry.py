@@ -1,0 +1,63 @@
+"""Rotation helpers: the one place that turns quaternions (w, x, y, z) into angles.
+
+Frames: the field frame (x toward the opponent goal, y left, z up) and a body frame that
+rotates with the torso. Signs, once for the whole toolkit: yaw is positive turning left
+(counter-clockwise seen from above), pitch positive leaning forward, roll positive leaning
+left.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+__all__ = ["quat_mul", "rotate", "yaw_from_quat", "torso_pitch_roll"]
+
+
+def yaw_from_quat(q_wxyz) -> float:
+    """Heading [rad] of the body x axis projected on the ground (0: along field x)."""
+    w, x, y, z = q_wxyz
+    return math.atan2(2 * (w * z + x * y), 1 - 2 * (y * y + z * z))
+
+
+def torso_pitch_roll(q_wxyz) -> tuple[float, float]:
+    """Torso pitch (positive: leaning forward) and roll (positive: leaning left) [rad].
+
+    Measured in the torso's heading frame, so they do not depend on where it faces.
+    """
+    w, x, y, z = q_wxyz
+    # Torso z axis in the world (third column of the rotation matrix), then in the heading
+    # frame.
+    zx, zy, zz = 2 * (x * z + w * y), 2 * (y * z - w * x), 1 - 2 * (x * x + y * y)
+    yaw = yaw_from_quat(q_wxyz)
+    c, s = math.cos(yaw), math.sin(yaw)
+    fwd, left = c * zx + s * zy, -s * zx + c * zy
+    return math.atan2(fwd, zz), math.atan2(left, zz)
+
+
+def quat_mul(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Hamilton product a * b of (N, 4) quaternions."""
+    aw, ax, ay, az = a[:, 0], a[:, 1], a[:, 2], a[:, 3]
+    bw, bx, by, bz = b[:, 0], b[:, 1], b[:, 2], b[:, 3]
+    out = np.empty(np.broadcast_shapes(a.shape, b.shape))
+    out[:, 0] = aw * bw - ax * bx - ay * by - az * bz
+    out[:, 1] = aw * bx + ax * bw + ay * bz - az * by
+    out[:, 2] = aw * by - ax * bz + ay * bw + az * bx
+    out[:, 3] = aw * bz + ax * by - ay * bx + az * bw
+    return out
+
+
+def _cross(u: np.ndarray, v: np.ndarray) -> np.ndarray:
+    out = np.empty(np.broadcast_shapes(u.shape, v.shape))
+    out[:, 0] = u[:, 1] * v[:, 2] - u[:, 2] * v[:, 1]
+    out[:, 1] = u[:, 2] * v[:, 0] - u[:, 0] * v[:, 2]
+    out[:, 2] = u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0]
+    return out
+
+
+def rotate(q: np.ndarray, v: np.ndarray) -> np.ndarray:
+    """Rotate (N, 3) vectors by (N, 4) unit quaternions."""
+    w, u = q[:, :1], q[:, 1:]
+    t = 2.0 * _cross(u, v)
+    return v + w * t + _cross(u, t)

@@ -1,0 +1,178 @@
+"""The world interface: what every world (ours in MuJoCo, the league's server) offers.
+
+An agent lives in cycles of ``CYCLE_S``: it observes, answers with a ``JointCommand`` and the
+world advances one cycle. Positions are in the field frame (origin at the centre spot, x toward
+the opponent goal, y left, z up) [m]; angles [rad].
+"""
+
+from __future__ import annotations
+
+import math
+from abc import ABC, abstractmethod
+from dataclasses import dataclass
+
+import numpy as np
+
+from mimic.geometry import yaw_from_quat
+from mimic.robot.actuators import JointCommand
+from mimic.robot.model import RobotDescription
+from mimic.world import field as F
+
+__all__ = ["World", "Observation", "CYCLE_S", "BodyPoses", "POSTURES"]
+
+#: The agent cycle [s]: agents see the world and command the joints at 50 Hz, in both the
+#: study's simulator and the league's.
+CYCLE_S = 0.02
+#: How a robot can be put down: standing, or lying on its front or back (get-ups).
+POSTURES = ("standing", "lying_front", "lying_back")
+
+
+@dataclass
+class Observation:
+    """What an agent perceives at the start of a cycle (N: the robot's joint count).
+
+    Attributes:
+        time_s: simulated time since reset [s].
+        joint_angles_rad: (N,) joint angles in the robot's joint order [rad].
+        joint_speeds_rad_s: (N,) joint speeds [rad/s].
+        gyro_rad_s: (3,) torso angular velocity in the torso frame [rad/s].
+        accelerometer_m_s2: (3,) torso proper acceleration in the torso frame [m/s^2].
+        torso_quat_wxyz: (4,) torso orientation in the field frame.
+        foot_forces_n: (2,) normal force under the left and right sole [N].
+        torso_pos_m: (3,) torso centre in the field frame [m] (a localisation estimate).
+        ball_pos_m: (3,) ball centre in the field frame [m] (the vision estimate).
+    """
+
+    time_s: float
+    joint_angles_rad: np.ndarray
+    joint_speeds_rad_s: np.ndarray
+    gyro_rad_s: np.ndarray
+    accelerometer_m_s2: np.ndarray
+    torso_quat_wxyz: np.ndarray
+    foot_forces_n: np.ndarray
+    torso_pos_m: np.ndarray
+    ball_pos_m: np.ndarray
+
+    @property
+    def torso_yaw_rad(self) -> float:
+        """Heading of the torso x axis in the field frame [rad]."""
+        return yaw_from_quat(self.torso_quat_wxyz)
+
+
+@dataclass(frozen=True)
+class BodyPoses:
+    """Every robot link's pose in the field frame at one instant.
+
+    names: link names (the robot's ``links`` order); pos_m: (B, 3); quat_wxyz: (B, 4).
+    """
+
+    names: tuple[str, ...]
+    pos_m: np.ndarray
+    quat_wxyz: np.ndarray
+
+
+class World(ABC):
+    """One robot, a ball and a field, advanced in agent cycles."""
+
+    #: The robot this world simulates.
+    robot: RobotDescription
+
+    # --- placing things -------------------------------------------------------------------
+    @abstractmethod
+    def reset(self) -> None:
+        """Everything back to the start."""
+
+    @abstractmethod
+    def place_robot(self, x_m: float, y_m: float, yaw_rad: float = 0.0,
+                    joint_angles_rad: np.ndarray | None = None, *,
+                    posture: str = "standing") -> None:
+        """Put the robot at (x, y) facing ``yaw_rad``, at rest, in ``posture`` (``POSTURES``).
+
+        ``joint_angles_rad``: (N,) pose of the joints (default: zero pose).
+        """
+
+    @abstractmethod
+    def place_ball(self, x_m: float, y_m: float) -> None:
+        """Put the ball at rest on the ground at (x, y)."""
+
+    # --- stepping and sensing -------------------------------------------------------------
+    @abstractmethod
+    def step(self, command: JointCommand) -> None:
+        """Apply one cycle's joint command and advance one cycle."""
+
+    @abstractmethod
+    def observe(self) -> Observation:
+        """What the agent perceives now."""
+
+    @property
+    @abstractmethod
+    def time_s(self) -> float:
+        """Simulated time since reset [s]."""
+
+    @abstractmethod
+    def joint_angles_rad(self) -> np.ndarray:
+        """(N,) joint angles [rad]."""
+
+    @abstractmethod
+    def torso_pos_m(self) -> np.ndarray:
+        """(3,) torso centre [m]."""
+
+    @abstractmethod
+    def torso_quat_wxyz(self) -> np.ndarray:
+        """(4,) torso orientation."""
+
+    @abstractmethod
+    def ball_pos_m(self) -> np.ndarray:
+        """(3,) ball centre [m]."""
+
+    @abstractmethod
+    def ball_speed_m_s(self) -> float:
+        """Ball speed [m/s]."""
+
+    @abstractmethod
+    def body_poses(self) -> BodyPoses:
+        """Every link's pose in the field frame."""
+
+    # --- derived quantities and events (shared by every world) ------------------------------
+    def torso_yaw_rad(self) -> float:
+        return yaw_from_quat(self.torso_quat_wxyz())
+
+    def torso_up_z(self) -> float:
+        """z component of the torso's up axis: 1 upright, 0 lying."""
+        w, x, y, _ = self.torso_quat_wxyz()
+        return float(1 - 2 * (x * x + y * y))
+
+    def torso_forward_z(self) -> float:
+        """z component of the torso's forward axis: negative when it faces the ground."""
+        w, x, y, z = self.torso_quat_wxyz()
+        return float(2 * (x * z - w * y))
+
+    def _tilt_rad(self) -> float:
+        return math.acos(max(-1.0, min(1.0, self.torso_up_z())))
+
+    def fallen(self) -> bool:
+        """Torso too low or tilted too far (the robot's ``FallThresholds``)."""
+        f = self.robot.falls
+        return self.torso_pos_m()[2] < f.fallen_below_m or self._tilt_rad() > f.fallen_tilt_rad
+
+    def upright(self) -> bool:
+        """Standing: torso high and nearly vertical (the success test of a get-up)."""
+        f = self.robot.falls
+        return self.torso_pos_m()[2] > f.upright_above_m and self._tilt_rad() < f.upright_tilt_rad
+
+    def lying_side(self) -> str:
+        """``front`` if the torso faces the ground, else ``back``."""
+        return "front" if self.torso_forward_z() < 0 else "back"
+
+    def goal_scored(self) -> bool:
+        """Ball wholly behind the opponent goal line, between the posts, under the bar."""
+        x, y, z = self.ball_pos_m()
+        return (x > F.OPPONENT_GOAL_X_M + F.BALL_RADIUS_M and abs(y) < F.GOAL_WIDTH_M / 2
+                and z < F.GOAL_HEIGHT_M)
+
+    def ball_out(self) -> bool:
+        """Ball wholly outside the field lines (and not a goal)."""
+        x, y, _ = self.ball_pos_m()
+        r = F.BALL_RADIUS_M
+        return (abs(x) > F.FIELD_LENGTH_M / 2 + r or abs(y) > F.FIELD_WIDTH_M / 2 + r) \
+            and not self.goal_scored()

@@ -1,0 +1,175 @@
+"""Our MuJoCo world: one robot (any ``RobotDescription``), a ball and the field.
+
+The NAO world of the study is this world with the default robot. Index arrays into
+qpos/qvel/ctrl are resolved once from the model's names (never hard-coded) and are read-only.
+"""
+
+from __future__ import annotations
+
+import math
+
+import mujoco
+import numpy as np
+
+from mimic.robot.actuators import JointCommand
+from mimic.robot.model import RobotDescription
+from mimic.robot.registry import get_robot
+from mimic.world import field as F
+from mimic.world.base import CYCLE_S, POSTURES, BodyPoses, Observation, World
+from mimic.world.scene import FOOT_TOUCH_SENSORS, PhysicsConfig, build_model
+
+__all__ = ["MujocoWorld"]
+
+
+def _readonly(a) -> np.ndarray:
+    a = np.asarray(a, dtype=np.int64)
+    a.setflags(write=False)
+    return a
+
+
+class MujocoWorld(World):
+    """MuJoCo model and data plus the named views agents and trials need.
+
+    Args:
+        robot: a ``RobotDescription`` or a robot name (default: ``nao``).
+        physics: simulation settings (default: the robot's, ``PhysicsConfig.for_robot``).
+    """
+
+    def __init__(self, robot: RobotDescription | str | None = None,
+                 physics: PhysicsConfig | None = None) -> None:
+        self.robot = get_robot(robot)
+        self.physics = physics or PhysicsConfig.for_robot(self.robot)
+        self.model = build_model(self.robot, self.physics)
+        self.data = mujoco.MjData(self.model)
+        m, names = self.model, self.robot.joint_names
+        self.substeps = round(CYCLE_S / m.opt.timestep)
+        if abs(self.substeps * m.opt.timestep - CYCLE_S) > 1e-9:
+            raise ValueError(f"timestep {m.opt.timestep} s does not divide the {CYCLE_S} s cycle")
+        self.qpos_idx = _readonly([m.jnt_qposadr[m.joint(n).id] for n in names])
+        self.qvel_idx = _readonly([m.jnt_dofadr[m.joint(n).id] for n in names])
+        self.ctrl_idx = _readonly([m.actuator(n).id for n in names])
+        root = m.body(self.robot.root_link)
+        root_joint = int(m.body_jntadr[root.id])
+        self._root_q = int(m.jnt_qposadr[root_joint])
+        self._root_v = int(m.jnt_dofadr[root_joint])
+        ball = m.joint("ball")
+        self._ball_q = int(m.jnt_qposadr[ball.id])
+        self._ball_v = int(m.jnt_dofadr[ball.id])
+        self._sensor = {name: slice(int(m.sensor(name).adr[0]),
+                                    int(m.sensor(name).adr[0] + m.sensor(name).dim[0]))
+                        for name in ("gyro", "accelerometer", "torso_quat", *FOOT_TOUCH_SENSORS)}
+        self.torso_body_id = root.id
+        self.ball_body_id = m.body("ball").id
+        self._link_names = tuple(link.name for link in self.robot.links)
+        self._link_ids = _readonly([m.body(n).id for n in self._link_names])
+        self._robot_geoms = _readonly([g for g in range(m.ngeom)
+                                       if m.geom_bodyid[g] in set(self._link_ids.tolist())
+                                       and m.geom_contype[g] != 0])
+        self.cycle = 0
+
+    # --- placing things -------------------------------------------------------------------
+    def reset(self) -> None:
+        mujoco.mj_resetData(self.model, self.data)
+        self.cycle = 0
+        mujoco.mj_forward(self.model, self.data)
+
+    def place_robot(self, x_m: float, y_m: float, yaw_rad: float = 0.0,
+                    joint_angles_rad: np.ndarray | None = None, *,
+                    posture: str = "standing") -> None:
+        if posture not in POSTURES:
+            raise ValueError(f"posture must be one of {', '.join(POSTURES)}, got {posture!r}")
+        d = self.data
+        q = self.robot.zeros() if joint_angles_rad is None else \
+            self.robot.check_vector(joint_angles_rad, "start pose")
+        d.qpos[self.qpos_idx] = q
+        d.qvel[self._root_v:self._root_v + 6] = 0.0
+        d.qvel[self.qvel_idx] = 0.0
+        rot = np.zeros(4)
+        mujoco.mju_euler2Quat(rot, np.array([0.0, 0.0, yaw_rad]), "xyz")
+        if posture != "standing":
+            pitch = math.pi / 2 if posture == "lying_front" else -math.pi / 2
+            tilt = np.zeros(4)
+            mujoco.mju_euler2Quat(tilt, np.array([0.0, pitch, 0.0]), "xyz")
+            mujoco.mju_mulQuat(rot, rot, tilt)
+        d.qpos[self._root_q:self._root_q + 3] = (x_m, y_m, 1.0)
+        d.qpos[self._root_q + 3:self._root_q + 7] = rot
+        mujoco.mj_kinematics(self.model, self.data)
+        lowest = self._lowest_robot_point_m()
+        d.qpos[self._root_q + 2] = 1.0 - lowest + 0.001
+        mujoco.mj_forward(self.model, self.data)
+
+    def _lowest_robot_point_m(self) -> float:
+        m, d = self.model, self.data
+        lowest = np.inf
+        for g in self._robot_geoms:
+            size, pos, mat = m.geom_size[g], d.geom_xpos[g], d.geom_xmat[g].reshape(3, 3)
+            kind = m.geom_type[g]
+            if kind == mujoco.mjtGeom.mjGEOM_BOX:
+                corners = np.array([[sx, sy, sz] for sx in (-1, 1) for sy in (-1, 1)
+                                    for sz in (-1, 1)]) * size
+                lowest = min(lowest, (corners @ mat.T)[:, 2].min() + pos[2])
+            elif kind == mujoco.mjtGeom.mjGEOM_MESH:
+                lowest = min(lowest, pos[2] - m.geom_rbound[g])
+            else:  # sphere, capsule, cylinder: radius, plus the half length along z if any
+                half = size[1] * abs(mat[2, 2]) if kind in (mujoco.mjtGeom.mjGEOM_CAPSULE,
+                                                            mujoco.mjtGeom.mjGEOM_CYLINDER) else 0
+                lowest = min(lowest, pos[2] - size[0] - half)
+        return float(lowest)
+
+    def place_ball(self, x_m: float, y_m: float) -> None:
+        d = self.data
+        d.qpos[self._ball_q:self._ball_q + 7] = (x_m, y_m, F.BALL_RADIUS_M, 1, 0, 0, 0)
+        d.qvel[self._ball_v:self._ball_v + 6] = 0.0
+        mujoco.mj_forward(self.model, self.data)
+
+    # --- stepping -------------------------------------------------------------------------
+    def step(self, command: JointCommand) -> None:
+        """Turn the command into controls (the robot's actuator model), advance one cycle."""
+        angles = self.data.qpos[self.qpos_idx]
+        self.data.ctrl[self.ctrl_idx] = self.robot.actuator.controls(command, angles,
+                                                                     self.robot.name)
+        mujoco.mj_step(self.model, self.data, nstep=self.substeps)
+        self.cycle += 1
+
+    # --- sensing --------------------------------------------------------------------------
+    @property
+    def time_s(self) -> float:
+        return float(self.data.time)
+
+    def joint_angles_rad(self) -> np.ndarray:
+        return self.data.qpos[self.qpos_idx].copy()
+
+    def observe(self) -> Observation:
+        d, s = self.data, self._sensor
+        return Observation(
+            time_s=float(d.time),
+            joint_angles_rad=d.qpos[self.qpos_idx].copy(),
+            joint_speeds_rad_s=d.qvel[self.qvel_idx].copy(),
+            gyro_rad_s=d.sensordata[s["gyro"]].copy(),
+            accelerometer_m_s2=d.sensordata[s["accelerometer"]].copy(),
+            torso_quat_wxyz=d.sensordata[s["torso_quat"]].copy(),
+            foot_forces_n=np.array([d.sensordata[s[name]][0] for name in FOOT_TOUCH_SENSORS]),
+            torso_pos_m=d.qpos[self._root_q:self._root_q + 3].copy(),
+            ball_pos_m=d.qpos[self._ball_q:self._ball_q + 3].copy(),
+        )
+
+    def torso_pos_m(self) -> np.ndarray:
+        return self.data.qpos[self._root_q:self._root_q + 3].copy()
+
+    def torso_quat_wxyz(self) -> np.ndarray:
+        return self.data.qpos[self._root_q + 3:self._root_q + 7].copy()
+
+    def ball_pos_m(self) -> np.ndarray:
+        return self.data.qpos[self._ball_q:self._ball_q + 3].copy()
+
+    def ball_speed_m_s(self) -> float:
+        return float(np.linalg.norm(self.data.qvel[self._ball_v:self._ball_v + 3]))
+
+    def centre_of_mass_m(self) -> np.ndarray:
+        """(3,) robot centre of mass in the field frame [m]."""
+        return self.data.subtree_com[self.torso_body_id].copy()
+
+    def body_poses(self) -> BodyPoses:
+        mujoco.mj_kinematics(self.model, self.data)  # xpos lags qpos after mj_step
+        return BodyPoses(self._link_names, self.data.xpos[self._link_ids].copy(),
+                         self.data.xquat[self._link_ids].copy())
