@@ -18,7 +18,7 @@ from mimic.recording.layout import JOINT_STATES
 from mimic.recording.recorder import record
 from mimic.trials.api import TrialResult, kick_trial, walk_trial
 from mimic.trials.report import STUDY_KICK, STUDY_WALK
-from mimic.trials.specs import AgentSpec
+from mimic.agents.registry import AgentSpec
 
 __all__ = ["PaperResult", "record_and_train", "train_and_save", "demo", "reproduce_paper", "network_summary"]
 
@@ -113,7 +113,7 @@ def reproduce_paper(out_dir: Path = Path("out/paper"), *, minutes: float = 30.0,
                       out=out_dir / "kick_trial.parquet", progress=progress)
     say(f"walk trial, {minutes:g} simulated minutes per variant")
     # The learned walk open-loop (as the study played it) and inside our balance layer.
-    walk = walk_trial([AgentSpec("agent", "other-team-walk"), AgentSpec("model", str(walk_model)),
+    walk = walk_trial([AgentSpec("behaviour", "other-team-walk"), AgentSpec("model", str(walk_model)),
                        AgentSpec("model", str(walk_model), balance=True)],
                       minutes=minutes, seed=seed, workers=workers,
                       out=out_dir / "walk_trial.parquet", progress=progress)

@@ -1,26 +1,40 @@
-"""Agents by name: our keyframe motions plus lazily imported behaviours and neural players.
+"""Agents by name: the one registry every command reads (record, play, trial, improve).
 
-Nothing beyond this module is imported until an agent is asked for, so listing names is cheap
-and a missing optional module only matters when its agent is used.
+A spec is text:
+
+* a shipped motion of the robot (``kick_right``) or a motion file (``my_kick.txt``): our
+  keyframe player;
+* a behaviour (``walk``, ``other-team-walk``, ``other-team-kick``);
+* a learned model (``kick.mimic``), optionally inside the balance layer
+  (``kick.mimic+balance``).
+
+``agent_spec`` turns the text into a picklable ``AgentSpec`` (built again inside worker
+processes); ``make_agent`` builds the agent at once. Behaviour modules are imported only when
+their agent is asked for, so listing names is cheap.
 """
 
 from __future__ import annotations
 
 import importlib
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Callable
 
 from mimic.agents.base import Agent
 from mimic.errors import MimicError
+from mimic.robot.registry import DEFAULT_ROBOT
 
-__all__ = ["make_agent", "agent_names", "agent_from_model", "LAZY_AGENTS"]
+__all__ = ["AgentSpec", "agent_spec", "make_agent", "agent_names", "BEHAVIOURS",
+           "BALANCE_SUFFIX"]
 
-#: Agent name -> "module:factory" (a callable with no arguments returning an Agent).
-LAZY_AGENTS: dict[str, str] = {
+#: Behaviour name -> "module:factory" (a callable with no arguments returning an Agent).
+BEHAVIOURS: dict[str, str] = {
     "walk": "mimic.agents.walk:make_walk_agent",
     "other-team-walk": "mimic.agents.other_team:make_walk",
     "other-team-kick": "mimic.agents.other_team:make_kick",
 }
+#: Appended to a model path (``kick.mimic+balance``): play that model inside the balance layer.
+BALANCE_SUFFIX = "+balance"
 
 
 def _load(target: str, what: str) -> Callable:
@@ -32,34 +46,111 @@ def _load(target: str, what: str) -> Callable:
             raise MimicError(f"{what} is not available: module {module_name} is missing "
                              "from this installation") from None
         raise
-    try:
-        return getattr(module, attr)
-    except AttributeError:
-        raise MimicError(f"{what} is not available: {module_name} has no {attr}") from None
+    return getattr(module, attr)
 
 
-def agent_names() -> list[str]:
-    """Every name ``make_agent`` accepts: shipped motions, then the lazy agents."""
+@dataclass(frozen=True)
+class AgentSpec:
+    """An agent to build, as plain data (picklable for worker processes).
+
+    Attributes:
+        kind: ``motion`` (a keyframe motion by name or .txt path), ``model`` (a learned
+            ``.mimic`` network) or ``behaviour`` (``BEHAVIOURS``).
+        ref: the motion name, model path or behaviour name.
+        robot: the robot the agent drives.
+        balance: wrap a learned motion in the closed-loop balance layer.
+        speed_rate: phase-rate multiplier for cyclic learned motions.
+    """
+
+    kind: str
+    ref: str
+    robot: str = DEFAULT_ROBOT
+    balance: bool = False
+    speed_rate: float = 1.0
+
+    @property
+    def label(self) -> str:
+        """How tables name it: ``kick_right``, ``kick (learned) + balance``."""
+        base = Path(self.ref).stem if self.kind == "model" else self.ref
+        suffix = " (learned)" if self.kind == "model" else ""
+        return base + suffix + (" + balance" if self.balance else "")
+
+    def build(self) -> Agent:
+        """A fresh agent (call it inside the process that runs it)."""
+        if self.kind == "motion":
+            from mimic.agents.keyframe_player import KeyframePlayer
+            from mimic.motion.files import load_motion
+            return KeyframePlayer(load_motion(self.ref, self.robot))
+        if self.kind == "model":
+            from mimic.agents.neural_player import NeuralPlayer
+            agent = NeuralPlayer.from_file(self.ref)
+            if self.speed_rate != 1.0:
+                agent.speed_rate = self.speed_rate
+            if self.balance:
+                from mimic.agents.balance import BalancedAgent
+                agent = BalancedAgent(agent)
+            return agent
+        return _load(BEHAVIOURS[self.ref], f"agent {self.ref!r}")()
+
+    def check(self) -> None:
+        """Everything that can be checked before a run: the model file reads, and the
+        agent can drive the spec's robot. Raises ``MimicError`` with one clear line."""
+        from mimic.robot.registry import get_robot
+        self.build().check_robot(get_robot(self.robot))
+
+    def ball_offset_m(self) -> tuple[float, float]:
+        """Where the kick wants the ball, relative to the torso (x forward, y left) [m]."""
+        offset = getattr(self.build(), "ball_offset_m", None)
+        if offset is None:
+            agent = self.build()
+            offset = getattr(getattr(agent, "movement", None), "ball_offset_m", None)
+        if offset is None:
+            raise MimicError(f"{self.label}: no ball offset known for this kick; a kick motion "
+                             "file needs a 'ball_offset X Y' line")
+        return (float(offset[0]), float(offset[1]))
+
+
+def agent_names(robot: str = DEFAULT_ROBOT) -> list[str]:
+    """Every name ``agent_spec`` accepts besides files: shipped motions, then behaviours."""
     from mimic.motion.files import list_motions
 
-    return list_motions() + [n for n in LAZY_AGENTS if n not in list_motions()]
+    motions = list_motions(robot)
+    return motions + [n for n in BEHAVIOURS if n not in motions]
 
 
-def make_agent(name: str) -> Agent:
-    """A fresh agent: a shipped motion name gives a ``KeyframePlayer`` of that motion."""
-    from mimic.motion.files import list_motions, load_motion
+def agent_spec(text: str, *, robot: str = DEFAULT_ROBOT, balance: bool = False,
+               speed_rate: float = 1.0) -> AgentSpec:
+    """Read an agent spec (see the module docstring).
 
-    if name in LAZY_AGENTS:
-        return _load(LAZY_AGENTS[name], f"agent {name!r}")()
-    if name in list_motions():
-        from mimic.agents.keyframe_player import KeyframePlayer
+    Raises:
+        MimicError: unknown name, missing model file, ``+balance`` on something that is not
+            a model.
+    """
+    if text.endswith(BALANCE_SUFFIX):
+        text, balance = text[:-len(BALANCE_SUFFIX)], True
+        if not text.endswith(".mimic"):
+            raise MimicError(f"{text + BALANCE_SUFFIX!r}: the balance layer wraps learned "
+                             "motions only; give a .mimic model, e.g. kick.mimic+balance")
+    if text.endswith(".mimic"):
+        path = Path(text)
+        if path.is_dir():
+            raise MimicError(f"{text!r} is a directory, not a model file; give a .mimic file")
+        if not path.is_file():
+            raise MimicError(f"model file {text!r} not found; train one with 'mimic train'")
+        from mimic.learn.model_file import load_model
+        return AgentSpec("model", text, load_model(text).robot, balance, speed_rate)
+    from mimic.motion.files import list_motions
+    if text in list_motions(robot) or text.endswith(".txt"):
+        if text.endswith(".txt") and not Path(text).is_file():
+            raise MimicError(f"motion file {text!r} not found")
+        return AgentSpec("motion", text, robot, balance, speed_rate)
+    if text in BEHAVIOURS:
+        return AgentSpec("behaviour", text, robot, balance, speed_rate)
+    raise MimicError(f"unknown agent {text!r}; motions: {', '.join(list_motions(robot))}; "
+                     f"behaviours: {', '.join(BEHAVIOURS)}; or a .mimic model file "
+                     "(optionally +balance)")
 
-        return KeyframePlayer(load_motion(name))
-    raise MimicError(f"unknown agent {name!r}; known: {', '.join(agent_names())} "
-                     "(or --model FILE.mimic for a learned motion)")
 
-
-def agent_from_model(path: str | Path) -> Agent:
-    """A neural player of a trained model file."""
-    player = _load("mimic.agents.neural_player:NeuralPlayer", "the neural player")
-    return player.from_file(path)
+def make_agent(text: str, *, robot: str = DEFAULT_ROBOT) -> Agent:
+    """A fresh agent from its spec text (see ``agent_spec``)."""
+    return agent_spec(text, robot=robot).build()

@@ -65,7 +65,8 @@ def register(app: typer.Typer) -> None:
     def record(
         name: Annotated[Optional[str], typer.Argument(
             help="Agent: a shipped motion (stand, kick_right, ...), walk, other-team-walk, "
-                 "other-team-kick.")] = None,
+                 "other-team-kick, or a model FILE.mimic (FILE.mimic+balance: inside the "
+                 "balance layer).")] = None,
         out: Annotated[Path, typer.Option("-o", "--out", help="Output .mcap file.")] = None,
         duration: Annotated[Optional[float], typer.Option(
             "--duration", help="Seconds to record (default: until the motion ends; cyclic "
@@ -78,6 +79,8 @@ def register(app: typer.Typer) -> None:
             show_default=False)] = None,
         model: Annotated[Optional[Path], typer.Option(
             help="Record a learned motion from a .mimic model file instead of NAME.")] = None,
+        robot: Annotated[str, typer.Option(help="Robot of shipped motions (mimic robots).")]
+        = "nao",
     ) -> None:
         """Run an agent in the simulator and record it as MCAP (Ctrl-C keeps what was made)."""
         from mimic.errors import MimicError
@@ -88,12 +91,9 @@ def register(app: typer.Typer) -> None:
             raise MimicError("give the output file with -o FILE.mcap")
         if (name is None) == (model is None):
             raise MimicError("give an agent NAME or --model FILE.mimic (one of them)")
-        if model is not None:
-            from mimic.agents.registry import agent_from_model
+        from mimic.agents.registry import make_agent
 
-            agent = agent_from_model(model)
-        else:
-            agent = name
+        agent = make_agent(str(model) if model is not None else name, robot=robot)
         with Progress(TextColumn("recording"), BarColumn(),
                       TextColumn("{task.completed:.2f} s sim"), console=err_console,
                       transient=True) as bar:

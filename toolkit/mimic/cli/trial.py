@@ -30,16 +30,19 @@ _RERUN = typer.Option("--rerun", help="Open the same dashboard in a Rerun viewer
 
 
 def _specs(variants, compare, motion, model, balance, speed_rate, default):
-    from mimic.trials.specs import parse_agent_spec
+    from mimic.agents.registry import agent_spec
     names = list(variants or []) + [n for n in (motion, model) if n]
     if compare and len(names) < 2:
         raise MimicError("--compare needs at least two variants, e.g. "
                          "--compare kick_right models/kick_right.mimic")
     if not names:
         names = [default]
-    specs = [parse_agent_spec(n, speed_rate=speed_rate) for n in names]
+    specs = [agent_spec(n, speed_rate=speed_rate) for n in names]
     # --balance wraps every learned motion; keyframe motions and agents stay as they are.
-    return [replace(s, balance=True) if balance and s.kind == "model" else s for s in specs]
+    specs = [replace(s, balance=True) if balance and s.kind == "model" else s for s in specs]
+    for spec in specs:  # every variant can run, before the first one does
+        spec.check()
+    return specs
 
 
 def _progress_bar(total_min: float | None, total_runs: int | None):

@@ -1,10 +1,11 @@
 """Recording an agent in a fresh world: the simulator's joint angles, our references, TF.
 
-One-shot motions start from the ready pose: the robot is beamed standing in the ``stand``
-motion's last keyframe, holds it ``settle_s``, the ball goes to the motion's ``ball_offset_m``
-(robot frame) if it has one, and the recording starts as the motion starts (t = 0). Cyclic
-agents (``period_s`` set) run ``warmup_s`` unrecorded, then whole periods are recorded.
-Other-team agents are only observed: nothing beyond the ``Agent`` interface is read.
+A recording is a scene, a run and an observer that writes MCAP (``McapObserver``). One-shot
+motions start from the ready pose: the robot is placed standing in its stand pose (or lying,
+for a get-up), holds it ``settle_s``, the ball goes to the motion's ``ball_offset_m`` (robot
+frame) if it has one, and the recording starts as the motion starts (t = 0). Cyclic agents
+(``period_s`` set) run ``warmup_s`` unrecorded, then whole periods are recorded. Other-team
+agents are only observed: nothing beyond the ``Agent`` interface is read.
 
 Ctrl-C (SIGINT) stops the recording at the end of the current cycle; the file is finished
 normally and marked interrupted.
@@ -12,7 +13,6 @@ normally and marked interrupted.
 
 from __future__ import annotations
 
-import math
 import signal
 import threading
 from dataclasses import dataclass
@@ -24,16 +24,15 @@ import numpy as np
 
 from mimic import __version__
 from mimic.agents.base import Agent
-from mimic.agents.tracking import TrackingController
+from mimic.episode import Observer, Scene, run
 from mimic.errors import MimicError
-from mimic.recording import layout as L
 from mimic.geometry import quat_mul, rotate
+from mimic.recording import layout as L
 from mimic.recording.writer import RecordingWriter
-from mimic.robot.description import BODIES
-from mimic.robot.urdf import robot_urdf
-from mimic.world.world import CYCLE_S, World
+from mimic.world.base import CYCLE_S, World
+from mimic.world.mujoco_world import MujocoWorld
 
-__all__ = ["record", "RecordResult", "RecordConfig", "TfSampler"]
+__all__ = ["record", "RecordResult", "RecordConfig", "TfSampler", "McapObserver"]
 
 #: Called after each recorded cycle with (recorded time [s], planned total [s] or None).
 Progress = Callable[[float, float | None], None]
@@ -76,16 +75,16 @@ class RecordResult:
 class TfSampler:
     """Link poses in their parents (the URDF tree under ``world``) and the ball in ``world``."""
 
-    def __init__(self, world: World) -> None:
-        m = world.model
-        self.children = [b.name for b in BODIES] + [L.BALL_FRAME]
-        self.parents = [b.parent or L.WORLD_FRAME for b in BODIES] + [L.WORLD_FRAME]
+    def __init__(self, world: MujocoWorld) -> None:
+        m, links = world.model, world.robot.links
+        self.children = [link.name for link in links] + [L.BALL_FRAME]
+        self.parents = [link.parent or L.WORLD_FRAME for link in links] + [L.WORLD_FRAME]
         self._child_ids = np.array([m.body(n).id for n in self.children])
         # Parent body ids; the world body (id 0) sits at the origin with identity rotation.
-        self._parent_ids = np.array([m.body(b.parent).id if b.parent else 0 for b in BODIES]
-                                    + [0])
+        self._parent_ids = np.array([m.body(link.parent).id if link.parent else 0
+                                     for link in links] + [0])
 
-    def sample(self, world: World) -> tuple[np.ndarray, np.ndarray]:
+    def sample(self, world: MujocoWorld) -> tuple[np.ndarray, np.ndarray]:
         """(n, 3) positions [m] and (n, 4) quaternions of each child in its parent."""
         mujoco.mj_kinematics(world.model, world.data)  # xpos lags qpos after mj_step
         xpos, xquat = world.data.xpos, world.data.xquat
@@ -93,6 +92,49 @@ class TfSampler:
         pp, qp = xpos[self._parent_ids], xquat[self._parent_ids]
         qp_inv = qp * np.array([1.0, -1.0, -1.0, -1.0])
         return rotate(qp_inv, pc - pp), quat_mul(qp_inv, qc)
+
+
+class McapObserver(Observer):
+    """Writes every cycle it sees: joint states, our references, the ended flag, TF.
+
+    Args:
+        writer: an open ``RecordingWriter``.
+        planned_cycles: the last cycle to write (its ``ended`` flag is set).
+        one_shot: the agent's ``done`` marks the motion's end (``ended`` from then on).
+        with_references: write ``/joint_references`` (our own agents only).
+        tf_every: write ``/tf`` every this many cycles (and on the last).
+        progress: called after each written cycle with (time [s], planned total [s] or None).
+    """
+
+    def __init__(self, writer: RecordingWriter, world: MujocoWorld, *, planned_cycles: int,
+                 one_shot: bool, with_references: bool, tf_every: int = 1,
+                 planned_s: float | None = None, progress: Progress | None = None) -> None:
+        self.writer, self.planned_cycles, self.one_shot = writer, planned_cycles, one_shot
+        self.with_references, self.tf_every = with_references, tf_every
+        self.planned_s, self.progress = planned_s, progress
+        self.tf = TfSampler(world)
+        self.samples, self.t_last_s = 0, 0.0
+        self.interrupted = False
+        self._cycle_ns = int(round(CYCLE_S * L.NS_PER_S))
+
+    @property
+    def finished(self) -> bool:
+        return self.samples >= self.planned_cycles
+
+    def before_step(self, world, obs, agent, command) -> None:
+        k = self.samples
+        t_ns = k * self._cycle_ns
+        last = k == self.planned_cycles - 1
+        ended = (agent.done and self.one_shot) or (last and not self.interrupted)
+        self.writer.write_joints(t_ns, obs.joint_angles_rad, obs.joint_speeds_rad_s)
+        if self.with_references and agent.reference_rad is not None:
+            self.writer.write_joints(t_ns, agent.reference_rad, topic=L.JOINT_REFERENCES)
+        self.writer.write_ended(t_ns, ended)
+        if k % self.tf_every == 0 or last or (agent.done and self.one_shot):
+            self.writer.write_tf(t_ns, self.tf.parents, self.tf.children, *self.tf.sample(world))
+        self.samples, self.t_last_s = k + 1, t_ns / L.NS_PER_S
+        if self.progress is not None:
+            self.progress(self.t_last_s, self.planned_s)
 
 
 def _ball_offset(agent: Agent, own: bool, given: tuple[float, float] | None):
@@ -128,18 +170,20 @@ def record(agent: str | Agent, out_path: str | Path, *, duration_s: float | None
            seed: int = 0, observe_only: bool = False, warmup_s: float | None = None,
            ball_offset_m: tuple[float, float] | None = None,
            config: RecordConfig = RecordConfig(), progress: Progress | None = None,
-           compression: str = "zstd") -> RecordResult:
-    """Run ``agent`` (a name for ``make_agent`` or an Agent) in a fresh World and record it.
+           compression: str = "zstd", world: World | None = None) -> RecordResult:
+    """Run ``agent`` (an agent spec for ``make_agent``, or an Agent) in a fresh world and
+    record it.
 
     Args:
         duration_s: one-shot: record this long (holding the end pose after the motion ends;
             None: until the motion ends). Cyclic: rounded to whole periods (None: 10 periods).
-        seed: seeds numpy's global generator for agents that draw random numbers; stored.
+        seed: seeds the scene's random generator (and is stored in the recording).
         observe_only: record only what the simulator shows (no ``/joint_references``).
         warmup_s: cyclic agents: time run before recording starts [s] (None:
             ``config.cyclic_warmup_s``).
         ball_offset_m: ball position in the robot frame (x forward, y left) [m]; default: the
             motion's own ``ball_offset_m`` (our agents only); None places the ball aside.
+        world: the world to record in (default: a fresh ``MujocoWorld`` of the agent's robot).
 
     Returns:
         A ``RecordResult``; ``interrupted`` is True when Ctrl-C stopped it (the file is valid).
@@ -151,31 +195,22 @@ def record(agent: str | Agent, out_path: str | Path, *, duration_s: float | None
     own = agent.team == "mimic"
     observe_only = observe_only or not own
     period_s = agent.period_s
-    if duration_s is not None and duration_s <= 0:
+    if duration_s is not None and not duration_s > 0:
         raise MimicError(f"--duration must be > 0 s, got {duration_s}")
-    np.random.seed(seed)
-
-    world = World()
-    world.reset()
-    from mimic.motion.files import stand_pose_rad
-
-    stand = stand_pose_rad()
-    x0, y0, yaw0 = config.start_x_m, config.start_y_m, config.start_yaw_rad
-    posture = agent.start_posture
-    world.beam(x0, y0, yaw0, stand,
-               lying=posture.removeprefix("lying_") if posture != "standing" else None)
+    if seed < 0:
+        raise MimicError(f"--seed must be >= 0, got {seed}")
+    world = world or MujocoWorld(agent.robot)
+    agent.check_robot(world.robot)
     offset = _ball_offset(agent, own, ball_offset_m)
-    if offset is not None:
-        c, s = math.cos(yaw0), math.sin(yaw0)
-        world.place_ball(x0 + c * offset[0] - s * offset[1], y0 + s * offset[0] + c * offset[1])
-    else:  # out of the way, beside the robot
-        world.place_ball(x0, y0 + 3.0)
+    scene = Scene(robot_xy_m=(config.start_x_m, config.start_y_m),
+                  robot_yaw_rad=config.start_yaw_rad, posture=agent.start_posture,
+                  ball_offset_m=offset, settle_s=config.settle_s)
 
     info = L.RecordingInfo(
         motion=agent.name, agent=type(agent).__name__, team=agent.team,
-        source="observed" if observe_only else "reference", control_rate_hz=1.0 / CYCLE_S,
-        cycle_s=CYCLE_S, toolkit_version=__version__, seed=seed, period_s=period_s,
-        ball_offset_m=offset, start_posture=posture)
+        source="observed" if observe_only else "reference", robot=world.robot.name,
+        joint_order=world.robot.joint_names, toolkit_version=__version__, seed=seed,
+        period_s=period_s, ball_offset_m=offset, start_posture=agent.start_posture)
     if period_s is not None:
         periods = max(1, round((duration_s or config.default_periods * period_s) / period_s))
         planned_cycles = int(round(periods * period_s / CYCLE_S))
@@ -185,46 +220,22 @@ def record(agent: str | Agent, out_path: str | Path, *, duration_s: float | None
         planned_cycles = int(round(config.max_duration_s / CYCLE_S)) + 1
     planned_s = (planned_cycles - 1) * CYCLE_S if (period_s or duration_s) else None
 
-    hold = TrackingController()
-    tf = TfSampler(world)
-    samples, t_last = 0, 0.0
-    with _SigintFlag() as sigint, RecordingWriter(out_path, info, urdf=robot_urdf(),
+    with _SigintFlag() as sigint, RecordingWriter(out_path, info, urdf=world.robot.urdf(),
                                                   flush_period_s=config.flush_period_s,
                                                   compression=compression) as writer:
-        for _ in range(int(round(config.settle_s / CYCLE_S))):
-            if sigint.raised:
-                break
-            obs = world.observe()
-            world.step(hold.speeds(stand, obs.joint_angles_rad))
+        scene.setup(world, np.random.default_rng(seed))
+        stopped = (lambda w: sigint.raised)
+        agent.check_robot(world.robot)
         agent.reset(world.observe())
-        if warmup_s is None:
-            warmup_s = config.cyclic_warmup_s
-        for _ in range(int(round(warmup_s / CYCLE_S)) if period_s is not None else 0):
-            if sigint.raised:
-                break
-            world.step(np.asarray(agent.act(world.observe())))
-        cycle_ns = int(round(CYCLE_S * L.NS_PER_S))
-        for k in range(planned_cycles):
-            if sigint.raised:
-                break
-            obs = world.observe()
-            speeds = np.asarray(agent.act(obs))
-            t_ns = k * cycle_ns
-            last = k == planned_cycles - 1 or (agent.done and duration_s is None
-                                               and period_s is None)
-            ended = (agent.done and period_s is None) or (last and not sigint.raised)
-            writer.write_joints(t_ns, obs.joint_angles_rad, obs.joint_speeds_rad_s)
-            if not observe_only and agent.reference_rad is not None:
-                writer.write_joints(t_ns, agent.reference_rad, topic=L.JOINT_REFERENCES)
-            writer.write_ended(t_ns, ended)
-            if k % config.tf_every == 0 or last:
-                writer.write_tf(t_ns, tf.parents, tf.children, *tf.sample(world))
-            samples, t_last = samples + 1, t_ns / L.NS_PER_S
-            if progress is not None:
-                progress(t_last, planned_s)
-            if last:
-                break
-            world.step(speeds)
-        interrupted = sigint.raised
-        writer.finish(interrupted=interrupted, samples=samples)
-    return RecordResult(Path(out_path), samples, t_last, interrupted, info)
+        if period_s is not None:
+            run(world, agent, max_s=config.cyclic_warmup_s if warmup_s is None else warmup_s,
+                reset=False, stop_when_done=False, stop=stopped)
+        mcap = McapObserver(writer, world, planned_cycles=planned_cycles,
+                            one_shot=period_s is None, with_references=not observe_only,
+                            tf_every=config.tf_every, planned_s=planned_s, progress=progress)
+        run(world, agent, max_s=planned_cycles * CYCLE_S, reset=False, observers=(mcap,),
+            stop_when_done=duration_s is None and period_s is None,
+            stop=lambda w: sigint.raised or mcap.finished)
+        interrupted = mcap.interrupted = sigint.raised
+        writer.finish(interrupted=interrupted, samples=mcap.samples)
+    return RecordResult(Path(out_path), mcap.samples, mcap.t_last_s, interrupted, info)

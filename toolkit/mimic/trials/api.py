@@ -11,7 +11,7 @@ import polars as pl
 from mimic.trials.kick import KickTrialConfig, run_kick_episode
 from mimic.trials.parallel import EpisodeBatch, run_episodes
 from mimic.trials.report import kick_summary, walk_summary, with_ratios, write_rows, write_summary
-from mimic.trials.specs import AgentSpec
+from mimic.agents.registry import AgentSpec
 from mimic.trials.walk import WalkTrialConfig, run_walk_episode
 
 __all__ = ["TrialResult", "kick_trial", "walk_trial"]
@@ -25,7 +25,7 @@ class TrialResult:
     rows: pl.DataFrame
     summary: pl.DataFrame
     files: list[Path] = field(default_factory=list)
-    # The first episode of each variant as a pose trace (``trials.trace.EpisodeTrace``), when
+    # The first episode of each variant as a pose trace (``episode.EpisodeTrace``), when
     # the trial ran with ``trace=True``: the robot and ball replayed in the Rerun dashboard.
     traces: dict = field(default_factory=dict)
 

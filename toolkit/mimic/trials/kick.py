@@ -9,14 +9,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from mimic.trials.episode import EpisodeClock, FallCounter, get_up, run_until, stand_pose_rad, \
-    stand_still
-from mimic.trials.specs import AgentSpec
-from mimic.trials.trace import TracingWorld
+from mimic.agents.registry import AgentSpec
+from mimic.episode import Episode, PoseNoise, PoseTrace, Scene
 from mimic.world import field as F
-from mimic.world.world import World
+from mimic.world.base import World
+from mimic.world.mujoco_world import MujocoWorld
 
-__all__ = ["KickTrialConfig", "run_kick_episode", "SUCCESS_DISTANCE_M"]
+__all__ = ["KickTrialConfig", "run_kick_episode", "kick_scene", "SUCCESS_DISTANCE_M"]
 
 #: A kick counts as successful when the ball travels farther than this (the study's rule) [m].
 SUCCESS_DISTANCE_M = 2.0
@@ -61,21 +60,14 @@ def _direction_error_rad(start_xy: np.ndarray, end_xy: np.ndarray) -> float:
     return float(math.acos(max(-1.0, min(1.0, cos))))
 
 
-def _place_for_kick(world: World, offset_m, rng, config: KickTrialConfig,
-                    falls: FallCounter) -> None:
-    """Robot at the centre spot facing the opponent goal, settled in its stand; then the ball
-    at the kick's offset from the settled torso (the feet move a little while settling)."""
-    yaw = rng.normal(0, config.start_noise_yaw_rad)
-    dx, dy = offset_m
-    x = -(dx * math.cos(yaw) - dy * math.sin(yaw)) + rng.normal(0, config.start_noise_pos_m)
-    y = -(dx * math.sin(yaw) + dy * math.cos(yaw)) + rng.normal(0, config.start_noise_pos_m)
-    pose = stand_pose_rad() + rng.normal(0, config.start_noise_joint_rad, size=22)
-    world.beam(x, y, yaw, pose)
-    world.place_ball(0.0, F.FIELD_WIDTH_M / 2 - 1.0)  # out of the way while settling
-    stand_still(world, max_s=0.5, falls=falls)
-    torso, yaw = world.torso_pos_m(), world.torso_yaw_rad()
-    world.place_ball(torso[0] + dx * math.cos(yaw) - dy * math.sin(yaw),
-                     torso[1] + dx * math.sin(yaw) + dy * math.cos(yaw))
+def kick_scene(offset_m, config: KickTrialConfig) -> Scene:
+    """Robot behind the centre spot facing the opponent goal, settled in its stand; then the
+    ball at the kick's offset from the settled torso (the feet move a little while settling)."""
+    return Scene(robot_xy_m=(-offset_m[0], -offset_m[1]), ball_offset_m=tuple(offset_m),
+                 ball_after_settle=True, settle_s=0.5,
+                 noise=PoseNoise(position_m=config.start_noise_pos_m,
+                                 yaw_rad=config.start_noise_yaw_rad,
+                                 joint_rad=config.start_noise_joint_rad))
 
 
 def _ball_in_robot_frame(world: World) -> np.ndarray:
@@ -85,23 +77,23 @@ def _ball_in_robot_frame(world: World) -> np.ndarray:
     return np.array([c * d[0] + s * d[1], -s * d[0] + c * d[1]])
 
 
-def _walk_to_ball(world: World, offset_m, falls: FallCounter, config: KickTrialConfig,
-                  clock: EpisodeClock) -> str:
+def _walk_to_ball(episode: Episode, offset_m, config: KickTrialConfig, limit_s: float) -> str:
     """Walk behind the ball facing the goal until lined up: ``arrived``, ``fell``, ``timeout``
     (the walk took too long) or ``not lined up`` (every attempt ended off the ball)."""
     from mimic.agents.walk import make_walk_agent
     from mimic.agents.walk.goto import GoToPose, pose_behind_ball
-    deadline_s = world.time_s + min(config.walk_timeout_s, clock.left_s(world))
+    world = episode.world
+    deadline_s = world.time_s + min(config.walk_timeout_s, limit_s - world.time_s)
     for _ in range(config.lineup_attempts):
         goto = GoToPose(make_walk_agent())
         ball = world.ball_pos_m()[:2]
         aim = (offset_m[0] + config.approach_back_off_m, offset_m[1])
         goto.set_target(*pose_behind_ball(ball, np.array([F.OPPONENT_GOAL_X_M, 0.0]), aim))
-        outcome = run_until(world, goto, max_s=deadline_s - world.time_s, falls=falls,
-                            stop=lambda w: goto.arrived)
+        outcome = episode.run(goto, max_s=deadline_s - world.time_s,
+                              stop=lambda w: goto.arrived)
         if outcome not in ("stop", "done"):
             return outcome  # fell or timeout
-        if stand_still(world, max_s=0.4, falls=falls) == "fell":
+        if episode.stand_still(max_s=0.4) == "fell":
             return "fell"
         error = _ball_in_robot_frame(world) - np.asarray(offset_m)
         if (abs(error[0]) <= config.lineup_tolerance_x_m
@@ -114,35 +106,38 @@ def run_kick_episode(kick: AgentSpec, seed: int, config: KickTrialConfig = KickT
                      ) -> tuple[list[dict], dict]:
     """Play one episode; returns (one row per kick, the episode's summary row)."""
     rng = np.random.default_rng(seed)
-    world = TracingWorld() if config.trace else World()
-    world.reset()
+    world = MujocoWorld(kick.robot)
+    trace = PoseTrace() if config.trace else None
+    episode = Episode(world, observers=(trace,) if trace else ())
+    falls, limit_s = episode.falls, config.episode_limit_s
+
+    def left_s() -> float:
+        return limit_s - world.time_s
+
     offset = kick.ball_offset_m()
-    falls, clock = FallCounter(), EpisodeClock(config.episode_limit_s)
-    _place_for_kick(world, offset, rng, config, falls)
+    kick_scene(offset, config).setup(world, rng, observers=episode.watchers)
     rows: list[dict] = []
     end = "time limit"
-    while clock.left_s(world) > 0:
+    while left_s() > 0:
         start_xy = world.ball_pos_m()[:2]
         start_t = world.time_s
         lineup = _ball_in_robot_frame(world)
         falls_before = falls.falls
-        outcome = run_until(world, kick.build(), max_s=min(10.0, clock.left_s(world)),
-                            falls=falls)
+        outcome = episode.run(kick.build(), max_s=min(10.0, left_s()))
         if outcome != "fell":
-            stand_still(world, max_s=min(config.ball_wait_s, clock.left_s(world)), falls=falls,
-                        stop=lambda w: w.ball_speed_m_s() < config.ball_rest_speed_m_s
-                        and w.time_s - start_t > 1.0)
+            episode.stand_still(max_s=min(config.ball_wait_s, left_s()),
+                                stop=lambda w: w.ball_speed_m_s() < config.ball_rest_speed_m_s
+                                and w.time_s - start_t > 1.0)
         else:  # the ball still rolls while the robot lies
-            run_until(world, _Limp(), max_s=min(config.ball_wait_s, clock.left_s(world)),
-                      falls=falls, stop=lambda w: w.ball_speed_m_s() < config.ball_rest_speed_m_s,
-                      abort_on_fall=False)
+            episode.wait_limp(max_s=min(config.ball_wait_s, left_s()),
+                              stop=lambda w: w.ball_speed_m_s() < config.ball_rest_speed_m_s)
         end_xy = world.ball_pos_m()[:2]
         distance = float(np.linalg.norm(end_xy - start_xy))
         rows.append(dict(
             kick=len(rows), time_s=start_t, distance_m=distance,
             success=distance > SUCCESS_DISTANCE_M,
             direction_error_deg=math.degrees(_direction_error_rad(start_xy, end_xy)),
-            goal=world.goal_scored(), ball_out=world.ball_out(),
+            goal=bool(world.goal_scored()), ball_out=bool(world.ball_out()),
             fell=falls.falls > falls_before,
             ball_start_x_m=float(start_xy[0]), ball_start_y_m=float(start_xy[1]),
             ball_end_x_m=float(end_xy[0]), ball_end_y_m=float(end_xy[1]),
@@ -155,14 +150,14 @@ def run_kick_episode(kick: AgentSpec, seed: int, config: KickTrialConfig = KickT
         if world.ball_out():
             end = "ball out"
             break
-        if world.fallen() and not get_up(world, falls):
+        if world.fallen() and not episode.get_up():
             end = "could not get up"
             break
-        walk = _walk_to_ball(world, offset, falls, config, clock)
-        while walk == "fell" and clock.left_s(world) > 0:
-            if not get_up(world, falls):
+        walk = _walk_to_ball(episode, offset, config, limit_s)
+        while walk == "fell" and left_s() > 0:
+            if not episode.get_up():
                 break
-            walk = _walk_to_ball(world, offset, falls, config, clock)
+            walk = _walk_to_ball(episode, offset, config, limit_s)
         if world.goal_scored():  # pushed in while walking: a goal, but no kick's credit
             end = "goal while walking"
             break
@@ -173,18 +168,6 @@ def run_kick_episode(kick: AgentSpec, seed: int, config: KickTrialConfig = KickT
                    goals=int(any(r["goal"] for r in rows)),
                    goals_while_walking=int(end == "goal while walking"), falls=falls.falls,
                    getups=falls.getups, end=end, stuck=end.startswith("stuck"))
-    if config.trace:
-        summary["trace"] = world.trace()
+    if trace is not None:
+        summary["trace"] = trace.trace()
     return rows, summary
-
-
-class _Limp:
-    """Zero joint speeds: used while waiting on a fallen robot."""
-
-    done = False
-
-    def reset(self, obs) -> None:
-        pass
-
-    def act(self, obs) -> np.ndarray:
-        return np.zeros(22)

@@ -35,7 +35,7 @@ class EpisodeBatch:
 
     rows: list[dict]
     episodes: list[dict]
-    # Pose traces of the traced episodes, by episode index (see ``trials.trace``).
+    # Pose traces of the traced episodes, by episode index (see ``episode.PoseTrace``).
     traces: dict = field(default_factory=dict)
 
     def add(self, rows: list[dict], summary: dict) -> None:

@@ -7,13 +7,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from mimic.trials.episode import FallCounter, run_until, stand_pose_rad, stand_still
-from mimic.trials.specs import AgentSpec
-from mimic.trials.trace import TracingWorld
+from mimic.agents.registry import AgentSpec
+from mimic.episode import Episode, PoseNoise, PoseTrace, Scene
 from mimic.world import field as F
-from mimic.world.world import World
+from mimic.world.mujoco_world import MujocoWorld
 
-__all__ = ["WalkTrialConfig", "run_walk_episode"]
+__all__ = ["WalkTrialConfig", "run_walk_episode", "walk_scene"]
 
 
 @dataclass(frozen=True)
@@ -33,23 +32,27 @@ class WalkTrialConfig:
     trace: bool = False
 
 
+def walk_scene(config: WalkTrialConfig) -> Scene:
+    """Standing on the start line facing the opponent goal, the ball out of the way."""
+    return Scene(robot_xy_m=(config.start_x_m, 0.0), settle_s=0.5,
+                 noise=PoseNoise(position_m=config.start_noise_pos_m,
+                                 yaw_rad=config.start_noise_yaw_rad,
+                                 joint_rad=config.start_noise_joint_rad))
+
+
 def run_walk_episode(walk: AgentSpec, seed: int, config: WalkTrialConfig = WalkTrialConfig()
                      ) -> tuple[list[dict], dict]:
     """One run; returns ([the run's row], the same row as summary) for the shared runner."""
     rng = np.random.default_rng(seed)
-    world = TracingWorld() if config.trace else World()
-    world.reset()
-    y0 = rng.normal(0, config.start_noise_pos_m)
-    world.beam(config.start_x_m + rng.normal(0, config.start_noise_pos_m), y0,
-               rng.normal(0, config.start_noise_yaw_rad),
-               stand_pose_rad() + rng.normal(0, config.start_noise_joint_rad, size=22))
-    world.place_ball(config.start_x_m, F.FIELD_WIDTH_M / 2 - 1.0)  # out of the way
-    falls = FallCounter()
-    stand_still(world, max_s=0.5, falls=falls)
+    world = MujocoWorld(walk.robot)
+    trace = PoseTrace() if config.trace else None
+    episode = Episode(world, observers=(trace,) if trace else ())
+    walk_scene(config).setup(world, rng, observers=episode.watchers)
+    falls = episode.falls
     start = world.torso_pos_m()
     t0 = world.time_s
-    outcome = run_until(world, walk.build(), max_s=config.timeout_s, falls=falls,
-                        stop=lambda w: w.torso_pos_m()[0] >= config.finish_x_m)
+    outcome = episode.run(walk.build(), max_s=config.timeout_s,
+                          stop=lambda w: w.torso_pos_m()[0] >= config.finish_x_m)
     end = world.torso_pos_m()
     elapsed = world.time_s - t0
     distance = float(end[0] - start[0])
@@ -60,5 +63,5 @@ def run_walk_episode(walk: AgentSpec, seed: int, config: WalkTrialConfig = WalkT
                finished=outcome == "stop", fell=outcome == "fell", falls=falls.falls,
                end={"stop": "finished", "fell": "fell", "timeout": "timeout",
                     "done": "agent stopped"}[outcome])
-    summary = dict(row, trace=world.trace()) if config.trace else row
+    summary = dict(row, trace=trace.trace()) if trace is not None else row
     return [row], summary

@@ -20,7 +20,7 @@ desired heading also points back at the line walked so far (from the localisatio
 
 Stop: the steps ramp down to zero, the feet close at the nominal stance, the robot holds
 the walk stance on both feet with balance feedback (``halt_settle_s``), then blends into
-the stand pose (``mimic.motion.files.stand_pose_rad``), from which the keyframe kicks start.
+the NAO's stand pose (``RobotDescription.stand_pose``), from which the keyframe kicks start.
 """
 
 from __future__ import annotations

@@ -25,7 +25,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from mimic.agents.walk.lipm import lateral_fraction, pendulum_rate_per_s, sagittal_fraction
-from mimic.world.world import CYCLE_S
+from mimic.world.base import CYCLE_S
 
 __all__ = ["WalkConfig", "StepPlan", "nominal_foot", "plan_step", "feet_at"]
 

@@ -1,8 +1,8 @@
 """Seeded physical outcome checks of our keyframe motions: kicks, get-ups, standing.
 
-Each check builds a fresh world, places the robot (and ball) with small random perturbations
-drawn from ``np.random.default_rng(seed)``, plays the motion with ``KeyframePlayer`` through
-``run_agent`` and reports what happened. Tests and benchmarks share these functions, so a rate
+Each check builds a fresh world, sets up a scene with small random perturbations drawn from
+``np.random.default_rng(seed)``, plays the motion with ``KeyframePlayer`` through the episode
+layer's ``run`` and reports what happened. Tests and benchmarks share these functions, so a rate
 printed by a benchmark is the rate the tests assert on.
 """
 
@@ -13,17 +13,16 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from mimic.agents.hold import HoldPose
 from mimic.agents.keyframe_player import KeyframePlayer
-from mimic.agents.tracking import TrackingController
+from mimic.episode import PoseNoise, Scene, UprightLog, run
 from mimic.errors import MotionFileError
-from mimic.motion.files import load_motion, stand_pose_rad
+from mimic.motion.files import load_motion
 from mimic.motion.keyframe import Movement
-from mimic.robot.joints import NUM_JOINTS, lower_limits_rad, upper_limits_rad
-from mimic.runner import run_agent
-from mimic.world.world import CYCLE_S, World
+from mimic.world.base import CYCLE_S
+from mimic.world.mujoco_world import MujocoWorld
 
-__all__ = ["Perturbation", "KickOutcome", "GetupOutcome", "stand_pose_rad", "run_kick",
-           "run_getup", "run_stand"]
+__all__ = ["Perturbation", "KickOutcome", "GetupOutcome", "run_kick", "run_getup", "run_stand"]
 
 
 @dataclass(frozen=True)
@@ -40,10 +39,14 @@ class Perturbation:
     ball_m: float = 0.01
 
 
-NO_PERTURBATION = Perturbation(0.0, 0.0, 0.0, 0.0)
+    def noise(self) -> PoseNoise:
+        """The same as a scene's uniform pose noise."""
+        return PoseNoise(position_m=self.position_m, yaw_rad=math.radians(self.yaw_deg),
+                         joint_rad=math.radians(self.joint_deg), ball_m=self.ball_m,
+                         distribution="uniform")
 
-#: Where the ball waits during checks that do not use it [m], far from the robot.
-_BALL_OUT_OF_THE_WAY_M = (5.0, 5.0)
+
+NO_PERTURBATION = Perturbation(0.0, 0.0, 0.0, 0.0)
 
 
 @dataclass(frozen=True)
@@ -79,18 +82,6 @@ class GetupOutcome:
     time_to_upright_s: float | None
 
 
-def _noisy_pose(rng: np.random.Generator, pose: np.ndarray, p: Perturbation) -> np.ndarray:
-    noise = rng.uniform(-1.0, 1.0, NUM_JOINTS) * math.radians(p.joint_deg)
-    return np.clip(pose + noise, lower_limits_rad(), upper_limits_rad())
-
-
-def _hold(world: World, pose: np.ndarray, duration_s: float) -> None:
-    """Track a fixed pose for ``duration_s`` [s] (lets a freshly beamed robot settle)."""
-    control = TrackingController()
-    for _ in range(int(round(duration_s / CYCLE_S))):
-        world.step(control.speeds(pose, world.joint_angles_rad()))
-
-
 def run_kick(movement: Movement, seed: int, perturb: bool = True, *,
              perturbation: Perturbation = Perturbation(),
              ball_start_m: tuple[float, float] = (-8.0, 0.0),
@@ -109,32 +100,22 @@ def run_kick(movement: Movement, seed: int, perturb: bool = True, *,
     if movement.ball_offset_m is None:
         raise MotionFileError(f"motion {movement.name!r} has no 'ball_offset X_M Y_M' line; "
                               "a kick needs one to place the ball")
-    rng = np.random.default_rng(seed)
     p = perturbation if perturb else NO_PERTURBATION
-    pose = _noisy_pose(rng, stand_pose_rad(), p)
-    dx, dy = rng.uniform(-1.0, 1.0, 2) * p.position_m
-    yaw = math.radians(rng.uniform(-1.0, 1.0) * p.yaw_deg)
-    bx, by = np.asarray(ball_start_m) + rng.uniform(-1.0, 1.0, 2) * p.ball_m
     off_x, off_y = movement.ball_offset_m
-
-    world = World()
-    world.beam(ball_start_m[0] - off_x + dx, ball_start_m[1] - off_y + dy, yaw, pose)
-    world.place_ball(bx, by)
-    _hold(world, pose, settle_s)
+    world = MujocoWorld(movement.robot)
+    Scene(robot_xy_m=(ball_start_m[0] - off_x, ball_start_m[1] - off_y),
+          ball_offset_m=movement.ball_offset_m, noise=p.noise(),
+          settle_s=settle_s).setup(world, np.random.default_rng(seed))
     heading = world.torso_yaw_rad()
     ball0 = world.ball_pos_m()[:2]
 
     player = KeyframePlayer(movement, hold_s=after_s)
-    run_agent(world, player, max_duration_s=movement.duration_s + after_s + 1.0)
+    run(world, player, max_s=movement.duration_s + after_s + 1.0)
     standing = not world.fallen()
-
-    last = movement.steps[-1].angles_rad
-    control = TrackingController()
+    # Then keep the last keyframe while the ball rolls to rest.
     remaining = max(0.0, max_time_s - movement.duration_s - after_s)
-    for _ in range(int(round(remaining / CYCLE_S))):
-        if world.ball_speed_m_s() < rest_speed_m_s:
-            break
-        world.step(control.speeds(last, world.joint_angles_rad()))
+    run(world, HoldPose(movement.steps[-1].angles_rad, movement.robot), max_s=remaining,
+        stop=lambda w: w.ball_speed_m_s() < rest_speed_m_s)
 
     moved = world.ball_pos_m()[:2] - ball0
     distance = float(np.hypot(*moved))
@@ -150,27 +131,20 @@ def run_getup(movement: Movement, side: str, seed: int, perturb: bool = True, *,
               settle_s: float = 0.5, after_s: float = 1.0) -> GetupOutcome:
     """Lay the robot on its ``side`` (``"front"`` or ``"back"``), let it settle, get up.
 
-    ``lying_pose_rad``: (22,) joint angles while lying (default: the stand pose), perturbed.
+    ``lying_pose_rad``: (N,) joint angles while lying (default: the stand pose), perturbed.
     Success is ``World.upright()`` at the motion's end + ``after_s`` [s].
     """
     if side not in ("front", "back"):
         raise ValueError(f"side must be 'front' or 'back', got {side!r}")
-    rng = np.random.default_rng(seed)
     p = perturbation if perturb else NO_PERTURBATION
-    base = stand_pose_rad() if lying_pose_rad is None else np.asarray(lying_pose_rad)
-    pose = _noisy_pose(rng, base, p)
-    dx, dy = rng.uniform(-1.0, 1.0, 2) * p.position_m
-    yaw = math.radians(rng.uniform(-1.0, 1.0) * p.yaw_deg)
-
-    world = World()
-    world.beam(dx, dy, yaw, pose, lying=side)
-    world.place_ball(*_BALL_OUT_OF_THE_WAY_M)  # the ball starts at the centre spot
-    _hold(world, pose, settle_s)
-
-    upright: list[bool] = []
-    run_agent(world, KeyframePlayer(movement, hold_s=after_s),
-              max_duration_s=movement.duration_s + after_s + 1.0,
-              observers=(lambda w, obs, agent: upright.append(w.upright()),))
+    world = MujocoWorld(movement.robot)
+    Scene(posture=f"lying_{side}", noise=p.noise(), settle_s=settle_s,
+          pose_rad=None if lying_pose_rad is None else tuple(lying_pose_rad)
+          ).setup(world, np.random.default_rng(seed))
+    log = UprightLog()
+    run(world, KeyframePlayer(movement, hold_s=after_s),
+        max_s=movement.duration_s + after_s + 1.0, observers=(log,))
+    upright = log.upright
     if not world.upright():
         return GetupOutcome(False, None)
     # The last cycles seen by the observer precede the final state: count back the run of
@@ -181,18 +155,14 @@ def run_getup(movement: Movement, side: str, seed: int, perturb: bool = True, *,
     return GetupOutcome(True, k * CYCLE_S)
 
 
-def run_stand(duration_s: float, seed: int | None = None) -> bool:
-    """Beam the robot in the stand pose (perturbed if ``seed`` is given) and play ``stand``
+def run_stand(duration_s: float, seed: int | None = None, robot: str = "nao") -> bool:
+    """Place the robot in its stand pose (perturbed if ``seed`` is given) and play ``stand``
     held for ``duration_s`` [s]; True if it never fell."""
-    pose = stand_pose_rad()
-    if seed is not None:
-        pose = _noisy_pose(np.random.default_rng(seed), pose, Perturbation())
-    world = World()
-    world.beam(0.0, 0.0, 0.0, pose)
-    world.place_ball(*_BALL_OUT_OF_THE_WAY_M)
-    fell: list[bool] = []
-    stand = load_motion("stand")
-    run_agent(world, KeyframePlayer(stand, hold_s=duration_s),
-              max_duration_s=stand.duration_s + duration_s,
-              observers=(lambda w, obs, agent: fell.append(w.fallen()),))
-    return not any(fell) and not world.fallen()
+    world = MujocoWorld(robot)
+    noise = (Perturbation() if seed is not None else NO_PERTURBATION).noise()
+    Scene(noise=noise, settle_s=0.0).setup(world, np.random.default_rng(seed or 0))
+    log = UprightLog()
+    stand = load_motion("stand", robot)
+    run(world, KeyframePlayer(stand, hold_s=duration_s), max_s=stand.duration_s + duration_s,
+        observers=(log,))
+    return not any(log.fallen) and not world.fallen()

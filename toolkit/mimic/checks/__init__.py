@@ -1,0 +1,6 @@
+"""Seeded physical outcome checks shared by the tests and the benchmarks.
+
+``motions``: our keyframe motions (a kick from a stand, a get-up, standing still).
+``walking``: any walk or kick agent through its interface only (a straight walk, a kick from
+a stand), as the recorder sees the other team. Each is a scene, a run and observers.
+"""
