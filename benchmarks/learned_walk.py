@@ -31,7 +31,7 @@ from mimic.recording.recorder import record
 from mimic.trials.api import walk_trial
 from mimic.trials.parallel import derive_seed
 from mimic.trials.report import with_ratios
-from mimic.trials.specs import AgentSpec
+from mimic.agents.registry import AgentSpec
 from mimic.trials.walk import run_walk_episode
 
 # Other team's walk: step length ramps up for ~3.5 s after the start; record after that.
@@ -102,7 +102,7 @@ def main() -> None:
     if not (args.reuse and mcap.exists() and all(p.exists() for p in models.values())):
         _record_and_train(args, mcap, models, console)
 
-    specs = [AgentSpec("agent", "other-team-walk"),
+    specs = [AgentSpec("behaviour", "other-team-walk"),
              AgentSpec("model", str(models["reached"])),
              AgentSpec("model", str(models["reached"]), balance=True),
              AgentSpec("model", str(models["compensated"])),

@@ -3,7 +3,7 @@
 Run: /work/venv/bin/python benchmarks/motion_rates.py [runs]
 Kick success: ball at least 3 m forward and the robot standing 2 s after the motion.
 Get-up success: upright at the motion's end + 1 s. Start poses get small random perturbations
-(see mimic.motion.checks.Perturbation); seeds 0..runs-1.
+(see mimic.checks.motions.Perturbation); seeds 0..runs-1.
 """
 
 from __future__ import annotations
@@ -15,7 +15,7 @@ import numpy as np
 from rich.console import Console
 from rich.table import Table
 
-from mimic.motion.checks import run_getup, run_kick
+from mimic.checks.motions import run_getup, run_kick
 from mimic.motion.files import load_motion
 
 KICK_MIN_DISTANCE_M = 3.0

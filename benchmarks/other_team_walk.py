@@ -17,8 +17,9 @@ from rich.console import Console
 from rich.table import Table
 
 from mimic.agents.other_team import make_kick, make_walk
-from mimic.agents.other_team.trials import kick_trial, walk_trial
-from mimic.world.world import CYCLE_S, World
+from mimic.checks.walking import kick_trial, walk_trial
+from mimic.world.base import CYCLE_S
+from mimic.world.mujoco_world import MujocoWorld
 
 
 def main() -> None:
@@ -26,7 +27,7 @@ def main() -> None:
     ap.add_argument("--walk-runs", type=int, default=3)
     ap.add_argument("--kick-runs", type=int, default=5)
     args = ap.parse_args()
-    world, console = World(), Console()
+    world, console = MujocoWorld(), Console()
     walk = make_walk()
     console.print(f"walk period {walk.period_s:.3f} s, step {walk.period_s / 2:.3f} s "
                   f"({round(walk.period_s / 2 / CYCLE_S)} cycles)")

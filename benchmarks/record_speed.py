@@ -18,12 +18,13 @@ import numpy as np
 
 from mimic.motion.files import list_motions
 from mimic.recording.recorder import RecordConfig, record
-from mimic.world.world import CYCLE_S, World
+from mimic.world.base import CYCLE_S
+from mimic.world.mujoco_world import MujocoWorld
 
 
 def baseline_rate(sim_s: float) -> float:
     """Simulated seconds per wall second of World.step alone."""
-    world = World()
+    world = MujocoWorld()
     world.reset()
     cycles = int(sim_s / CYCLE_S)
     zero = np.zeros(22)

@@ -12,17 +12,18 @@ import time
 import numpy as np
 
 from mimic.trials.api import kick_trial
-from mimic.trials.specs import AgentSpec
-from mimic.world.world import World
+from mimic.agents.registry import AgentSpec
+from mimic.world.mujoco_world import MujocoWorld
+from mimic.robot.actuators import JointCommand
 
 
 def bare_stepping_real_time_factor(sim_s: float = 20.0) -> float:
-    world = World()
+    world = MujocoWorld()
     world.reset()
-    world.beam(0.0, 0.0)
+    world.place_robot(0.0, 0.0)
     start = time.perf_counter()
     for _ in range(int(sim_s / 0.02)):
-        world.step(np.zeros(22))
+        world.step(JointCommand.speeds(world.robot.zeros()))
     return sim_s / (time.perf_counter() - start)
 
 

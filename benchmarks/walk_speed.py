@@ -19,18 +19,20 @@ import time
 
 import numpy as np
 
-from mimic.agents.walk import WalkEngine, make_walk_agent, stand_pose_rad
+from mimic.agents.walk import WalkEngine, make_walk_agent
 from mimic.agents.walk.goto import GoToPose, wrap_angle
 from mimic.world.field import FIELD_LENGTH_M
-from mimic.world.world import CYCLE_S, World
+from mimic.world.base import CYCLE_S
+from mimic.world.mujoco_world import MujocoWorld
+from mimic.robot.nao import nao
 
 
 def walk_15m(world: World, seed: int, speed_m_s: float, timeout_s: float = 90.0) -> dict:
     rng = np.random.default_rng(seed)
     start_x = -FIELD_LENGTH_M / 2
     world.reset()
-    world.beam(start_x + rng.uniform(-0.005, 0.005), rng.uniform(-0.005, 0.005),
-               math.radians(rng.uniform(-1, 1)), stand_pose_rad())
+    world.place_robot(start_x + rng.uniform(-0.005, 0.005), rng.uniform(-0.005, 0.005),
+               math.radians(rng.uniform(-1, 1)), nao().stand_pose())
     agent = make_walk_agent(speed_m_s)
     agent.reset(world.observe())
     act_s = step_s = 0.0
@@ -67,7 +69,7 @@ def stop_from_speed(world: World, seed: int, speed_m_s: float, walk_s: float = 6
     """Walk ``walk_s`` at ``speed_m_s``, call stop(); time and distance until standing."""
     rng = np.random.default_rng(seed)
     world.reset()
-    world.beam(-FIELD_LENGTH_M / 2, 0.0, math.radians(rng.uniform(-1, 1)), stand_pose_rad())
+    world.place_robot(-FIELD_LENGTH_M / 2, 0.0, math.radians(rng.uniform(-1, 1)), nao().stand_pose())
     agent = make_walk_agent(speed_m_s)
     agent.reset(world.observe())
     fell = False
@@ -86,7 +88,7 @@ def stop_from_speed(world: World, seed: int, speed_m_s: float, walk_s: float = 6
     return dict(seed=seed, fell=fell, standing=agent.state == "standing" and agent.done,
                 time_to_rest_s=t_rest if t_rest is not None else float("nan"),
                 distance_after_stop_m=world.torso_pos_m()[0] - x0,
-                pose_error_deg=math.degrees(np.abs(obs.joint_angles_rad - stand_pose_rad()).max()))
+                pose_error_deg=math.degrees(np.abs(obs.joint_angles_rad - nao().stand_pose()).max()))
 
 
 GOTO_CASES = (  # (start x, y, yaw [deg]) -> target (x, y, heading [deg])
@@ -100,7 +102,7 @@ GOTO_CASES = (  # (start x, y, yaw [deg]) -> target (x, y, heading [deg])
 
 def go_to(world: World, start, target, timeout_s: float = 40.0) -> dict:
     world.reset()
-    world.beam(start[0], start[1], math.radians(start[2]), stand_pose_rad())
+    world.place_robot(start[0], start[1], math.radians(start[2]), nao().stand_pose())
     goal = (target[0], target[1], math.radians(target[2]))
     goto = GoToPose(WalkEngine())
     goto.set_target(*goal)
@@ -126,7 +128,7 @@ def main() -> None:
     parser.add_argument("--stop-goto", action="store_true", help="also measure stop / go-to")
     args = parser.parse_args()
     speed = args.speed or inspect.signature(make_walk_agent).parameters["vx_m_s"].default
-    world = World()
+    world = MujocoWorld()
     print(f"commanded {speed:.2f} m/s; x = -15 -> 0 (15 m); speed = distance / time incl. start")
     print(f"{'seed':>4} {'reached':>7} {'speed':>7} {'drift_y':>8} {'max|y|':>7} {'falls':>5} "
           f"{'sim_s':>6} {'wall_s':>6} {'RTF':>6} {'act_us':>7} {'step_us':>7} {'act/step':>8}")

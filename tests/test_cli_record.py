@@ -36,8 +36,8 @@ def test_record_then_info_json(tmp_path):
     (["info", "missing.mcap"], "no such file"),
     (["import", "missing.txt", "-o", "x.mcap"], "cannot read the file"),
 ])
-def test_bad_input_is_one_line_and_nonzero(tmp_path, args, message):
-    os.chdir(tmp_path)
+def test_bad_input_is_one_line_and_nonzero(tmp_path, monkeypatch, args, message):
+    monkeypatch.chdir(tmp_path)  # undone after the test, unlike os.chdir
     result = runner.invoke(app, args)
     assert result.exit_code != 0
     assert message in result.output

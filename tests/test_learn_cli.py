@@ -44,7 +44,8 @@ def test_train_and_export_study_kick(tmp_path):
     runner.invoke(app, ["train", str(kick), "-o", str(again), "--epochs", "300", "--seed", "3"])
     assert np.array_equal(load_model(out).params, load_model(again).params)
     res = runner.invoke(app, ["export", str(out), "--onnx", str(tmp_path / "kick.onnx")])
-    assert res.exit_code == 0, res.output and (tmp_path / "kick.onnx").is_file()
+    assert res.exit_code == 0, res.output
+    assert (tmp_path / "kick.onnx").is_file()
 
 
 def test_several_inputs_train_into_a_folder(tmp_path, study_table):

@@ -16,40 +16,36 @@ from mimic.learn.train import TARGET_REACHED, TrainConfig, train_model, training
 from mimic.motion.files import load_motion
 from mimic.recording.layout import JOINT_STATES
 from mimic.recording.recorder import record
-from mimic.robot.joints import JOINT_NAMES
-from mimic.trials.episode import FallCounter, stand_pose_rad, stand_still
-from mimic.world.world import World
+from mimic.episode import Episode, FallCounter, Observer, PoseNoise, Scene
+from mimic.world.mujoco_world import MujocoWorld
+from mimic.robot.nao import nao
 
 
 def _play(agent, offset_m, *, seed=None, falls=None):
     """Joint angles reached while ``agent`` plays from standing behind the ball, and the
     distance the ball moved [m]. With ``seed``, the start pose gets 0.01 rad of noise; with
     ``falls`` (a FallCounter), the robot also stands for 2 s after the motion ends."""
-    world = World()
-    world.reset()
-    pose = stand_pose_rad()
-    if seed is not None:
-        pose = pose + np.random.default_rng(seed).normal(0.0, 0.01, pose.shape)
-    world.beam(0.0, 0.0, 0.0, pose)
-    world.place_ball(0.0, 9.0)
-    stand_still(world, max_s=0.5, falls=FallCounter())
-    torso = world.torso_pos_m()
-    world.place_ball(torso[0] + offset_m[0], torso[1] + offset_m[1])
+    world = MujocoWorld()
+    noise = PoseNoise(joint_rad=0.01 if seed is not None else 0.0)
+    Scene(ball_offset_m=tuple(offset_m), ball_after_settle=True, noise=noise).setup(
+        world, np.random.default_rng(seed or 0))
     start = world.ball_pos_m()
-    agent.reset(world.observe())
-    reached = []
-    for _ in range(300):
-        obs = world.observe()
-        speeds = agent.act(obs)
-        reached.append(obs.joint_angles_rad)
-        if agent.done:
-            break
-        if falls is not None:
-            falls.update(world)
-        world.step(speeds)
+    reached = _Reached()
+    episode = Episode(world, observers=(reached,), falls=falls or FallCounter())
+    episode.run(agent, max_s=6.0, abort_on_fall=False)
     if falls is not None:
-        stand_still(world, max_s=2.0, falls=falls)
-    return np.array(reached), float(np.linalg.norm(world.ball_pos_m() - start))
+        episode.stand_still(max_s=2.0)
+    return np.array(reached.angles), float(np.linalg.norm(world.ball_pos_m() - start))
+
+
+class _Reached(Observer):
+    """The joint angles seen every cycle."""
+
+    def __init__(self):
+        self.angles = []
+
+    def before_step(self, world, obs, agent, command):
+        self.angles.append(obs.joint_angles_rad)
 
 
 @pytest.fixture(scope="module")
@@ -77,9 +73,9 @@ def test_learned_kick_reaches_the_originals_angles_and_kicks(learned_kick):
 
 
 def test_balance_leaves_a_one_shot_motions_swing_leg_alone(learned_kick):
-    world = World()
+    world = MujocoWorld()
     world.reset()
-    world.beam(0.0, 0.0, 0.0, stand_pose_rad())
+    world.place_robot(0.0, 0.0, 0.0, nao().stand_pose())
     rolled_0_1_rad = np.array([np.cos(0.05), np.sin(0.05), 0.0, 0.0])
     tilted = dataclasses.replace(world.observe(), gyro_rad_s=np.zeros(3),
                                  torso_quat_wxyz=rolled_0_1_rad)
@@ -89,11 +85,11 @@ def test_balance_leaves_a_one_shot_motions_swing_leg_alone(learned_kick):
     shift = kick.tilt_correction_rad(tilted)
     swing = "right" if kick.support > 0 else "left"
     support = "left" if swing == "right" else "right"
-    moved = {name for name, d in zip(JOINT_NAMES, shift) if abs(d) > 1e-9}
+    moved = {name for name, d in zip(nao().joint_names, shift) if abs(d) > 1e-9}
     assert moved == {f"{support}_ankle_roll"}, "a pure roll moves the support ankle roll only"
     # A walk keeps the swing-leg correction (its swing foot lands where the hip puts it).
     assert BalancedAgent(NeuralPlayer(learned_kick), swing_feedback=True).tilt_correction_rad(
-        tilted)[JOINT_NAMES.index(f"{swing}_hip_roll")] != 0.0
+        tilted)[nao().joint_index(f"{swing}_hip_roll")] != 0.0
 
 
 @pytest.mark.parametrize("seed", [0, 1])

@@ -17,9 +17,9 @@ from mimic.learn.presets import get_preset
 from mimic.learn.train import TrainConfig, train_model, training_dataset
 from mimic.recording.recorder import record
 from mimic.robot.joints import joint_index
-from mimic.trials.specs import AgentSpec
+from mimic.agents.registry import AgentSpec
 from mimic.trials.walk import WalkTrialConfig, run_walk_episode
-from mimic.world.world import World
+from mimic.world.mujoco_world import MujocoWorld
 
 # The other team's walk reaches its steady speed (full step length) about 4 s after starting.
 WARMUP_S = 4.0
@@ -64,9 +64,9 @@ def _foot_in_torso(angles: np.ndarray, side: str) -> np.ndarray:
     """(3, 3) orientation of a foot in the torso frame, from the simulator's kinematics."""
     import mujoco
 
-    world = World()
+    world = MujocoWorld()
     world.reset()
-    world.beam(0.0, 0.0, 0.0, angles)
+    world.place_robot(0.0, 0.0, 0.0, angles)
     mujoco.mj_kinematics(world.model, world.data)
     torso = world.data.xmat[world.model.body("torso").id].reshape(3, 3)
     foot = world.data.xmat[world.model.body(f"{side}_foot").id].reshape(3, 3)

@@ -12,14 +12,14 @@ from hypothesis import strategies as st
 
 from mimic.robot.leg_ik import leg_fk, leg_geometry, leg_ik, leg_joint_indices, rpy_matrix, \
     sole_to_ankle
-from mimic.world.world import World
+from mimic.world.mujoco_world import MujocoWorld
 
 SIDES = ("left", "right")
 
 
 @pytest.fixture(scope="module")
 def world() -> World:
-    return World()
+    return MujocoWorld()
 
 
 def _angles_in_limits(side: str, u: list[float]) -> np.ndarray:

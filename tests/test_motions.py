@@ -9,10 +9,10 @@ import numpy as np
 import pytest
 
 from mimic.errors import MotionFileError
-from mimic.motion.checks import run_getup, run_kick, run_stand
-from mimic.motion.files import (format_motion, list_motions, load_motion, parse_motion,
-                                stand_pose_rad)
+from mimic.checks.motions import run_getup, run_kick, run_stand
+from mimic.motion.files import (format_motion, list_motions, load_motion, parse_motion)
 from mimic.robot.joints import lower_limits_rad, mirror_angles, upper_limits_rad
+from mimic.robot.nao import nao
 
 #: Kick target: ball at least this far forward, robot standing 2 s after the motion [m].
 KICK_TARGET_M = 3.0
@@ -111,7 +111,7 @@ def test_getup_stands_the_robot_up(side, seed):
 def test_getup_ends_in_the_stand_pose(side):
     # So that ``stand`` or a walk can take over from the last keyframe.
     last = load_motion(f"getup_{side}").steps[-1].angles_rad
-    np.testing.assert_allclose(last, stand_pose_rad(), rtol=0.0, atol=1e-9)
+    np.testing.assert_allclose(last, nao().stand_pose(), rtol=0.0, atol=1e-9)
 
 
 @pytest.mark.slow

@@ -3,17 +3,16 @@
 import numpy as np
 import pytest
 
-from mimic.agents.base import Agent
+from mimic.agents.base import Agent, JointCommand
 from mimic.agents.neural_player import NeuralPlayer
-from mimic.agents.tracking import TrackingController
 from mimic.learn.dataset import dataset_from_frame
 from mimic.learn.model_file import save_model
 from mimic.learn.presets import FAST
 from mimic.learn.train import TrainConfig, train_model
 from mimic.motion.files import load_motion
-from mimic.robot.joints import joint_index
-from mimic.runner import run_agent
-from mimic.world.world import World
+from mimic.episode import Observer, run
+from mimic.robot.nao import nao
+from mimic.world.mujoco_world import MujocoWorld
 
 from _learn_helpers import joint_frame
 
@@ -21,12 +20,12 @@ N = 50  # one second of 20 ms cycles
 
 
 def _arm_wave() -> np.ndarray:
-    """(N, 22) references: the stand pose with both shoulders swinging forward and back."""
+    """(N, J) references: the stand pose with both shoulders swinging forward and back."""
     stand = load_motion("stand").steps[-1].angles_rad
     t = np.arange(N) * 0.02
     q = np.tile(stand, (N, 1))
     for name in ("left_shoulder_pitch", "right_shoulder_pitch"):
-        q[:, joint_index(name)] += 0.6 * np.sin(np.pi * t)
+        q[:, nao().joint_index(name)] += 0.6 * np.sin(np.pi * t)
     return q
 
 
@@ -35,7 +34,7 @@ class _Replay(Agent):
 
     def __init__(self, refs):
         super().__init__()
-        self.refs, self.k, self.tracking = refs, 0, TrackingController()
+        self.refs, self.k = refs, 0
 
     def reset(self, obs):
         self.k = 0
@@ -44,17 +43,24 @@ class _Replay(Agent):
         self.reference_rad = self.refs[min(self.k, len(self.refs) - 1)]
         self.k += 1
         self.done = self.k >= len(self.refs)
-        return self.tracking.speeds(self.reference_rad, obs.joint_angles_rad)
+        return JointCommand.references(self.reference_rad)
 
 
 def _play(agent, start):
-    world = World()
+    world = MujocoWorld()
     world.reset()
-    world.beam(0.0, 0.0, 0.0, start)
-    reached = []
-    run_agent(world, agent, max_duration_s=2 * N * 0.02,
-              observers=(lambda w, obs, a: reached.append(obs.joint_angles_rad.copy()),))
-    return np.array(reached)
+    world.place_robot(0.0, 0.0, 0.0, start)
+    reached = _Reached()
+    run(world, agent, max_s=2 * N * 0.02, observers=(reached,))
+    return np.array(reached.angles)
+
+
+class _Reached(Observer):
+    def __init__(self):
+        self.angles = []
+
+    def before_step(self, world, obs, agent, command):
+        self.angles.append(obs.joint_angles_rad.copy())
 
 
 def test_learned_arm_wave_follows_the_original(tmp_path):
@@ -66,10 +72,10 @@ def test_learned_arm_wave_follows_the_original(tmp_path):
     assert player.name == "arm_wave" and player.period_s is None
     learned = _play(player, refs[0])
     original = _play(_Replay(refs), refs[0])
-    assert player.done and player.reference_rad.shape == (22,)
+    assert player.done and player.reference_rad.shape == (nao().num_joints,)
     n = min(len(learned), len(original))
     assert n >= N - 2
-    shoulder = joint_index("left_shoulder_pitch")
+    shoulder = nao().joint_index("left_shoulder_pitch")
     assert np.ptp(original[:n, shoulder]) > 0.5   # the arm really moved
     assert np.abs(learned[:n] - original[:n]).max() < 0.05
 

@@ -12,6 +12,7 @@ pytest.importorskip("ipykernel")
 NOTEBOOK = Path(__file__).resolve().parents[1] / "notebooks" / "reproduce_paper.ipynb"
 
 
+@pytest.mark.slow  # the whole paper pipeline: one kick episode alone may run 240 simulated s
 def test_reproduce_paper_notebook_runs(tmp_path, monkeypatch):
     monkeypatch.setenv("MIMIC_PAPER_MINUTES", "0.3")
     monkeypatch.setenv("MIMIC_PAPER_OUT", str(tmp_path / "paper"))

@@ -10,16 +10,17 @@ import pytest
 
 from mimic.agents.other_team import make_kick, make_walk
 from mimic.agents.other_team.ik import leg_fk, leg_ik
-from mimic.agents.other_team.trials import kick_trial, walk_trial
+from mimic.checks.walking import kick_trial, walk_trial
 from mimic.robot.joints import NUM_JOINTS, joint_index
-from mimic.world.world import CYCLE_S, World
+from mimic.world.base import CYCLE_S
+from mimic.world.mujoco_world import MujocoWorld
 
 _PARTS = ("hip_yaw_pitch", "hip_roll", "hip_pitch", "knee_pitch", "ankle_pitch", "ankle_roll")
 
 
 @pytest.fixture(scope="module")
 def world() -> World:
-    return World()
+    return MujocoWorld()
 
 
 @pytest.fixture(scope="module")
@@ -49,7 +50,7 @@ def test_ik_matches_mujoco_foot_pose_and_round_trips(world, side, name):
                       side * rng.uniform(-0.2, 0.3)])
         angles = np.zeros(NUM_JOINTS)
         angles[idx] = q
-        world.beam(0.0, 0.0, 0.3, angles)
+        world.place_robot(0.0, 0.0, 0.3, angles)
         r_torso = d.xmat[torso].reshape(3, 3)
         pos_mj = r_torso.T @ (d.xpos[foot] - d.xpos[torso])
         rot_mj = r_torso.T @ d.xmat[foot].reshape(3, 3)

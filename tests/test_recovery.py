@@ -4,24 +4,25 @@ import numpy as np
 import pytest
 
 from mimic.agents.walk import make_walk_agent
-from mimic.motion.files import stand_pose_rad
-from mimic.trials.episode import FallCounter, get_up, lying_side, run_until
-from mimic.world.world import World
+from mimic.episode import Episode
+from mimic.world.mujoco_world import MujocoWorld
+from mimic.robot.nao import nao
 
 
 @pytest.mark.parametrize("side", ["front", "back"])
 def test_fallen_robot_gets_up_and_walks_on(side):
-    world = World()
+    world = MujocoWorld()
     world.reset()
-    world.beam(-10.0, 0.0, 0.3, stand_pose_rad(), lying=side)
+    world.place_robot(-10.0, 0.0, 0.3, nao().stand_pose(), posture=f"lying_{side}")
     world.place_ball(0.0, 5.0)
-    falls = FallCounter()
+    episode = Episode(world)
+    falls = episode.falls
     assert falls.update(world), "lying counts as fallen"
-    assert lying_side(world) == side
-    assert get_up(world, falls)
+    assert world.lying_side() == side
+    assert episode.get_up()
     assert falls.getups == 1 and world.upright()
     start = world.torso_pos_m()
-    outcome = run_until(world, make_walk_agent(), max_s=6.0, falls=falls)
+    outcome = episode.run(make_walk_agent(), max_s=6.0)
     assert outcome == "timeout", f"the walk ended with {outcome!r}"
     assert falls.falls == 1, "no fall after the get-up"
     walked = np.linalg.norm(world.torso_pos_m()[:2] - start[:2])

@@ -8,12 +8,12 @@ import pytest
 
 from mimic.robot import joints as J
 from mimic.robot.description import BODIES, total_mass_kg
-from mimic.world.world import World
+from mimic.world.mujoco_world import MujocoWorld
 
 
 @pytest.fixture(scope="module")
 def world():
-    return World()
+    return MujocoWorld()
 
 
 def test_total_mass_is_the_simulators(world):
@@ -43,7 +43,7 @@ def test_thirteen_body_kinds():
 
 
 def _body_positions(world, angles):
-    world.beam(0.0, 0.0, 0.0, angles)
+    world.place_robot(0.0, 0.0, 0.0, angles)
     return {world.model.body(i).name: world.data.xpos[i] - world.torso_pos_m()
             for i in range(world.torso_body_id, world.model.nbody)}
 

@@ -13,8 +13,16 @@ from typer.testing import CliRunner
 from mimic.cli.main import app
 from mimic.trials.api import kick_trial, walk_trial
 from mimic.trials.parallel import derive_seed
-from mimic.trials.specs import AgentSpec, parse_agent_spec
+from mimic.agents.registry import AgentSpec, agent_spec as parse_agent_spec
+from mimic.errors import MimicError
+from mimic.learn.dataset import dataset_from_frame
+from mimic.learn.model_file import save_model
+from mimic.learn.presets import FAST
+from mimic.learn.train import TrainConfig, train_model
+from mimic.robot.nao import nao
 from mimic.viz.trials import save_trial_dashboard
+
+from _learn_helpers import joint_frame
 
 KICK_COLUMNS = {"variant", "attempts", "successful", "accuracy_pct", "mean_distance_m",
                 "std_distance_m", "goals", "falls", "getups", "stuck"}
@@ -98,7 +106,7 @@ def test_episode_seeds_differ_and_are_stable():
 
 
 def test_three_run_walk_trial_measures_speed_and_drift():
-    result = walk_trial([AgentSpec("agent", "walk")], runs=3, seed=1, workers=2)
+    result = walk_trial([AgentSpec("behaviour", "walk")], runs=3, seed=1, workers=2)
     assert WALK_COLUMNS <= set(result.summary.columns)
     runs = result.rows
     assert runs.height == 3
@@ -113,16 +121,18 @@ def test_three_run_walk_trial_measures_speed_and_drift():
 def test_unknown_variant_is_one_clear_line():
     result = CliRunner().invoke(app, ["trial", "kick", "--motion", "kik_right", "--minutes", "1"])
     assert result.exit_code == 2
-    assert "unknown motion, model or agent 'kik_right'" in result.output
-    with pytest.raises(Exception, match="not found"):
+    assert "unknown agent 'kik_right'" in result.output
+    with pytest.raises(MimicError, match="not found"):
         parse_agent_spec("missing.mimic")
 
 
 def test_balance_suffix_wraps_one_model_in_the_balance_layer(tmp_path):
-    model = tmp_path / "kick.mimic"
-    model.write_bytes(b"")  # the spec only checks that the file exists
+    refs = np.tile(nao().stand_pose(), (10, 1))
+    ds = dataset_from_frame(joint_frame(np.arange(10) * 0.02, refs), metadata={"motion": "kick"})
+    model = save_model(train_model(ds, TrainConfig(FAST, seed=0, epochs=20)),
+                       tmp_path / "kick.mimic")
     wrapped, plain = parse_agent_spec(f"{model}+balance"), parse_agent_spec(str(model))
     assert (wrapped.kind, wrapped.ref, wrapped.balance) == ("model", str(model), True)
     assert not plain.balance and wrapped.label == "kick (learned) + balance"
-    with pytest.raises(Exception, match="wraps learned motions only"):
+    with pytest.raises(MimicError, match="wraps learned motions only"):
         parse_agent_spec("kick_right+balance")

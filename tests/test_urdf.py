@@ -9,7 +9,7 @@ import numpy as np
 from mimic.robot.description import BODIES
 from mimic.robot.joints import JOINTS
 from mimic.robot.urdf import robot_urdf
-from mimic.world.world import World
+from mimic.world.mujoco_world import MujocoWorld
 
 
 def _tree():
@@ -56,10 +56,10 @@ def _urdf_fk(angles: dict[str, float]) -> dict[str, np.ndarray]:
 
 
 def test_forward_kinematics_agrees_with_mujoco():
-    world = World()
+    world = MujocoWorld()
     rng = np.random.default_rng(3)
     angles = np.array([rng.uniform(j.lower_rad, j.upper_rad) for j in JOINTS])
-    world.beam(0.0, 0.0, 0.0, angles)
+    world.place_robot(0.0, 0.0, 0.0, angles)
     mujoco.mj_kinematics(world.model, world.data)
     d = world.data
     r_torso = d.xmat[world.torso_body_id].reshape(3, 3)

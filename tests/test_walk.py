@@ -7,19 +7,20 @@ import math
 import numpy as np
 import pytest
 
-from mimic.agents.walk import WalkEngine, make_walk_agent, stand_pose_rad
+from mimic.agents.walk import WalkEngine, make_walk_agent
 from mimic.agents.walk.goto import GoToPose, pose_behind_ball, wrap_angle
-from mimic.world.world import World
+from mimic.world.mujoco_world import MujocoWorld
+from mimic.robot.nao import nao
 
 
 @pytest.fixture(scope="module")
 def world() -> World:
-    return World()
+    return MujocoWorld()
 
 
 def _start(world: World, x: float = -15.0, y: float = 0.0, yaw: float = 0.0) -> None:
     world.reset()
-    world.beam(x, y, yaw, stand_pose_rad())
+    world.place_robot(x, y, yaw, nao().stand_pose())
 
 
 def _run(world: World, agent, seconds: float, reset: bool = True) -> bool:
@@ -68,8 +69,8 @@ def test_walks_5_m_at_walking_speed(world: World) -> None:
 def test_walks_15_m_from_jittered_starts(world: World, seed: int) -> None:
     rng = np.random.default_rng(seed)
     world.reset()
-    world.beam(-15.0 + rng.uniform(-0.01, 0.01), rng.uniform(-0.01, 0.01),
-               math.radians(rng.uniform(-2, 2)), stand_pose_rad() + rng.normal(0, 0.01, 22))
+    world.place_robot(-15.0 + rng.uniform(-0.01, 0.01), rng.uniform(-0.01, 0.01),
+               math.radians(rng.uniform(-2, 2)), nao().stand_pose() + rng.normal(0, 0.01, 22))
     agent = make_walk_agent()
     agent.reset(world.observe())
     (x0, y0, _), yaw0 = world.torso_pos_m(), world.torso_yaw_rad()
@@ -118,7 +119,7 @@ def test_stop_comes_to_rest_in_the_stand_pose(world: World, speed_m_s: float) ->
     assert agent.state == "standing" and agent.done
     obs = world.observe()
     assert np.abs(obs.joint_speeds_rad_s).max() < 0.3
-    assert np.abs(obs.joint_angles_rad - stand_pose_rad()).max() < math.radians(6)
+    assert np.abs(obs.joint_angles_rad - nao().stand_pose()).max() < math.radians(6)
     assert world.upright()
 
 
@@ -152,7 +153,7 @@ def test_go_to_pose_behind_the_ball_leaves_it_in_place(world: World) -> None:
     with the ball where the kick wants it, without walking into it."""
     ball, offset = (-3.0, -1.0), (0.160, -0.069)
     world.reset()
-    world.beam(-2.5, -1.0, 0.5, stand_pose_rad())
+    world.place_robot(-2.5, -1.0, 0.5, nao().stand_pose())
     world.place_ball(*ball)
     goto = GoToPose(WalkEngine())
     goto.set_target(*pose_behind_ball(ball, (15.0, 0.0), offset))

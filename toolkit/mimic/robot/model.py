@@ -160,7 +160,8 @@ class RobotDescription:
             return self._index[name]
         except KeyError:
             raise UnknownJointError(
-                f"{self.name} has no joint {name!r}; its joints: {', '.join(self.joint_names)}"
+                f"unknown joint {name!r}: the {self.name} has none; its joints: "
+                f"{', '.join(self.joint_names)}"
             ) from None
 
     def has_joint(self, name: str) -> bool:
