@@ -21,10 +21,10 @@ import numpy as np
 
 from mimic.agents.walk import WalkEngine, make_walk_agent
 from mimic.agents.walk.goto import GoToPose, wrap_angle
-from mimic.world.field import FIELD_LENGTH_M
-from mimic.world.base import CYCLE_S
-from mimic.world.mujoco_world import MujocoWorld
 from mimic.robot.nao import nao
+from mimic.world.base import CYCLE_S, World
+from mimic.world.field import FIELD_LENGTH_M
+from mimic.world.mujoco_world import MujocoWorld
 
 
 def walk_15m(world: World, seed: int, speed_m_s: float, timeout_s: float = 90.0) -> dict:

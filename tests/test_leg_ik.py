@@ -10,8 +10,15 @@ import pytest
 from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
-from mimic.robot.leg_ik import leg_fk, leg_geometry, leg_ik, leg_joint_indices, rpy_matrix, \
-    sole_to_ankle
+from mimic.robot.leg_ik import (
+    leg_fk,
+    leg_geometry,
+    leg_ik,
+    leg_joint_indices,
+    rpy_matrix,
+    sole_to_ankle,
+)
+from mimic.world.base import World
 from mimic.world.mujoco_world import MujocoWorld
 
 SIDES = ("left", "right")

@@ -8,9 +8,9 @@ import math
 import numpy as np
 import pytest
 
-from mimic.errors import MotionFileError
 from mimic.checks.motions import run_getup, run_kick, run_stand
-from mimic.motion.files import (format_motion, list_motions, load_motion, parse_motion)
+from mimic.errors import MotionFileError
+from mimic.motion.files import format_motion, list_motions, load_motion, parse_motion
 from mimic.robot.joints import lower_limits_rad, mirror_angles, upper_limits_rad
 from mimic.robot.nao import nao
 
@@ -50,9 +50,9 @@ def test_round_trip_keeps_a_ball_offset_and_a_speed_rate():
 def test_kick_left_is_the_mirror_of_kick_right():
     right, left = load_motion("kick_right"), load_motion("kick_left")
     assert left.ball_offset_m == (right.ball_offset_m[0], -right.ball_offset_m[1])
-    for r, l in zip(right.steps, left.steps, strict=True):
-        assert r.time_s == l.time_s
-        np.testing.assert_allclose(l.angles_rad, mirror_angles(r.angles_rad))
+    for r, mirrored in zip(right.steps, left.steps, strict=True):
+        assert r.time_s == mirrored.time_s
+        np.testing.assert_allclose(mirrored.angles_rad, mirror_angles(r.angles_rad))
 
 
 @pytest.mark.parametrize("text, line, words", [

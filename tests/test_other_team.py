@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import math
 
-import mujoco
 import numpy as np
 import pytest
 
@@ -12,7 +11,7 @@ from mimic.agents.other_team import make_kick, make_walk
 from mimic.agents.other_team.ik import leg_fk, leg_ik
 from mimic.checks.walking import kick_trial, walk_trial
 from mimic.robot.joints import NUM_JOINTS, joint_index
-from mimic.world.base import CYCLE_S
+from mimic.world.base import CYCLE_S, World
 from mimic.world.mujoco_world import MujocoWorld
 
 _PARTS = ("hip_yaw_pitch", "hip_roll", "hip_pitch", "knee_pitch", "ankle_pitch", "ankle_roll")

@@ -9,8 +9,9 @@ import pytest
 
 from mimic.agents.walk import WalkEngine, make_walk_agent
 from mimic.agents.walk.goto import GoToPose, pose_behind_ball, wrap_angle
-from mimic.world.mujoco_world import MujocoWorld
 from mimic.robot.nao import nao
+from mimic.world.base import World
+from mimic.world.mujoco_world import MujocoWorld
 
 
 @pytest.fixture(scope="module")

@@ -15,9 +15,9 @@ from __future__ import annotations
 
 import signal
 import threading
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Callable
 
 import mujoco
 import numpy as np
@@ -153,7 +153,7 @@ class _SigintFlag:
         self.raised = False
         self._old = None
 
-    def __enter__(self) -> "_SigintFlag":
+    def __enter__(self) -> _SigintFlag:
         if threading.current_thread() is threading.main_thread():
             self._old = signal.signal(signal.SIGINT, self._handle)
         return self
@@ -224,12 +224,11 @@ def record(agent: str | Agent, out_path: str | Path, *, duration_s: float | None
                                                   flush_period_s=config.flush_period_s,
                                                   compression=compression) as writer:
         scene.setup(world, np.random.default_rng(seed))
-        stopped = (lambda w: sigint.raised)
         agent.check_robot(world.robot)
         agent.reset(world.observe())
         if period_s is not None:
             run(world, agent, max_s=config.cyclic_warmup_s if warmup_s is None else warmup_s,
-                reset=False, stop_when_done=False, stop=stopped)
+                reset=False, stop_when_done=False, stop=lambda w: sigint.raised)
         mcap = McapObserver(writer, world, planned_cycles=planned_cycles,
                             one_shot=period_s is None, with_references=not observe_only,
                             tf_every=config.tf_every, planned_s=planned_s, progress=progress)

@@ -90,7 +90,7 @@ def _walk_to_ball(episode: Episode, offset_m, config: KickTrialConfig, limit_s: 
         aim = (offset_m[0] + config.approach_back_off_m, offset_m[1])
         goto.set_target(*pose_behind_ball(ball, np.array([F.OPPONENT_GOAL_X_M, 0.0]), aim))
         outcome = episode.run(goto, max_s=deadline_s - world.time_s,
-                              stop=lambda w: goto.arrived)
+                              stop=lambda w, goto=goto: goto.arrived)
         if outcome not in ("stop", "done"):
             return outcome  # fell or timeout
         if episode.stand_still(max_s=0.4) == "fell":
@@ -127,7 +127,7 @@ def run_kick_episode(kick: AgentSpec, seed: int, config: KickTrialConfig = KickT
         if outcome != "fell":
             episode.stand_still(max_s=min(config.ball_wait_s, left_s()),
                                 stop=lambda w: w.ball_speed_m_s() < config.ball_rest_speed_m_s
-                                and w.time_s - start_t > 1.0)
+                                and w.time_s - start_t > 1.0)  # noqa: B023 (run at once, in this iteration)
         else:  # the ball still rolls while the robot lies
             episode.wait_limp(max_s=min(config.ball_wait_s, left_s()),
                               stop=lambda w: w.ball_speed_m_s() < config.ball_rest_speed_m_s)
