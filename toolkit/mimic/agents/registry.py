@@ -16,9 +16,9 @@ their agent is asked for, so listing names is cheap.
 from __future__ import annotations
 
 import importlib
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Callable
 
 from mimic.agents.base import Agent
 from mimic.errors import MimicError
@@ -92,11 +92,11 @@ class AgentSpec:
             return agent
         return _load(BEHAVIOURS[self.ref], f"agent {self.ref!r}")()
 
-    def check(self) -> None:
+    def check(self, robot: str | None = None) -> None:
         """Everything that can be checked before a run: the model file reads, and the
-        agent can drive the spec's robot. Raises ``MimicError`` with one clear line."""
+        agent can drive ``robot`` (default: the spec's). Raises ``MimicError``, one line."""
         from mimic.robot.registry import get_robot
-        self.build().check_robot(get_robot(self.robot))
+        self.build().check_robot(get_robot(robot or self.robot))
 
     def ball_offset_m(self) -> tuple[float, float]:
         """Where the kick wants the ball, relative to the torso (x forward, y left) [m]."""
@@ -152,5 +152,13 @@ def agent_spec(text: str, *, robot: str = DEFAULT_ROBOT, balance: bool = False,
 
 
 def make_agent(text: str, *, robot: str = DEFAULT_ROBOT) -> Agent:
-    """A fresh agent from its spec text (see ``agent_spec``)."""
-    return agent_spec(text, robot=robot).build()
+    """A fresh agent from its spec text (see ``agent_spec``) that can drive ``robot``.
+
+    Raises:
+        MimicError: bad spec, or an agent made for another robot.
+    """
+    from mimic.robot.registry import get_robot
+
+    agent = agent_spec(text, robot=robot).build()
+    agent.check_robot(get_robot(robot))
+    return agent
