@@ -25,13 +25,13 @@ import polars as pl
 from rich.console import Console
 from rich.table import Table
 
+from mimic.agents.registry import AgentSpec
 from mimic.learn.model_file import save_model
 from mimic.learn.train import TrainConfig, train_model, training_dataset
 from mimic.recording.recorder import record
 from mimic.trials.api import walk_trial
 from mimic.trials.parallel import derive_seed
 from mimic.trials.report import with_ratios
-from mimic.agents.registry import AgentSpec
 from mimic.trials.walk import run_walk_episode
 
 # Other team's walk: step length ramps up for ~3.5 s after the start; record after that.

@@ -9,12 +9,10 @@ from __future__ import annotations
 import argparse
 import time
 
-import numpy as np
-
-from mimic.trials.api import kick_trial
 from mimic.agents.registry import AgentSpec
-from mimic.world.mujoco_world import MujocoWorld
 from mimic.robot.actuators import JointCommand
+from mimic.trials.api import kick_trial
+from mimic.world.mujoco_world import MujocoWorld
 
 
 def bare_stepping_real_time_factor(sim_s: float = 20.0) -> float:

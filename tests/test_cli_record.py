@@ -1,7 +1,6 @@
 """`mimic record`, `mimic info`, `mimic import`: exit codes, one-line errors, Ctrl-C safety."""
 
 import json
-import os
 import signal
 import subprocess
 import sys

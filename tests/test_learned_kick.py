@@ -11,14 +11,14 @@ import pytest
 from mimic.agents.balance import BalancedAgent
 from mimic.agents.keyframe_player import KeyframePlayer
 from mimic.agents.neural_player import NeuralPlayer
+from mimic.episode import Episode, FallCounter, Observer, PoseNoise, Scene
 from mimic.learn.presets import get_preset
 from mimic.learn.train import TARGET_REACHED, TrainConfig, train_model, training_dataset
 from mimic.motion.files import load_motion
 from mimic.recording.layout import JOINT_STATES
 from mimic.recording.recorder import record
-from mimic.episode import Episode, FallCounter, Observer, PoseNoise, Scene
-from mimic.world.mujoco_world import MujocoWorld
 from mimic.robot.nao import nao
+from mimic.world.mujoco_world import MujocoWorld
 
 
 def _play(agent, offset_m, *, seed=None, falls=None):

@@ -1,6 +1,5 @@
 """notebooks/reproduce_paper.ipynb runs top to bottom (with a small trial budget)."""
 
-import os
 from pathlib import Path
 
 import pytest

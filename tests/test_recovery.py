@@ -5,8 +5,8 @@ import pytest
 
 from mimic.agents.walk import make_walk_agent
 from mimic.episode import Episode
-from mimic.world.mujoco_world import MujocoWorld
 from mimic.robot.nao import nao
+from mimic.world.mujoco_world import MujocoWorld
 
 
 @pytest.mark.parametrize("side", ["front", "back"])

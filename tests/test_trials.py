@@ -4,25 +4,24 @@ import json
 import subprocess
 
 import numpy as np
-
 import polars as pl
 import pyarrow.parquet as pq
 import pytest
+from _learn_helpers import joint_frame
 from typer.testing import CliRunner
 
+from mimic.agents.registry import AgentSpec
+from mimic.agents.registry import agent_spec as parse_agent_spec
 from mimic.cli.main import app
-from mimic.trials.api import kick_trial, walk_trial
-from mimic.trials.parallel import derive_seed
-from mimic.agents.registry import AgentSpec, agent_spec as parse_agent_spec
 from mimic.errors import MimicError
 from mimic.learn.dataset import dataset_from_frame
 from mimic.learn.model_file import save_model
 from mimic.learn.presets import FAST
 from mimic.learn.train import TrainConfig, train_model
 from mimic.robot.nao import nao
+from mimic.trials.api import kick_trial, walk_trial
+from mimic.trials.parallel import derive_seed
 from mimic.viz.trials import save_trial_dashboard
-
-from _learn_helpers import joint_frame
 
 KICK_COLUMNS = {"variant", "attempts", "successful", "accuracy_pct", "mean_distance_m",
                 "std_distance_m", "goals", "falls", "getups", "stuck"}

@@ -1,15 +1,14 @@
 """The world: standing still, the ball rolling to a stop, events."""
 
-import numpy as np
 import pytest
 
 from mimic.agents.keyframe_player import KeyframePlayer
-from mimic.motion.files import load_motion
 from mimic.episode import run
+from mimic.motion.files import load_motion
+from mimic.robot.actuators import JointCommand
 from mimic.world import field as F
 from mimic.world.base import CYCLE_S
 from mimic.world.mujoco_world import MujocoWorld
-from mimic.robot.actuators import JointCommand
 
 
 @pytest.fixture()

@@ -39,8 +39,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from mimic.agents.base import Agent, JointCommand
-from mimic.robot.joints import joint_index
 from mimic.geometry import yaw_from_quat
+from mimic.robot.joints import joint_index
 from mimic.world.base import CYCLE_S, Observation
 
 __all__ = ["BalanceGains", "HeadingGains", "BalancedAgent", "torso_lean_rad", "torso_yaw_rad",

@@ -2,8 +2,6 @@
 
 from __future__ import annotations
 
-import numpy as np
-
 from mimic.agents.base import Agent, JointCommand
 from mimic.motion.keyframe import Movement
 from mimic.world.base import Observation

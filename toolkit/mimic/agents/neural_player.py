@@ -77,7 +77,7 @@ class NeuralPlayer(Agent):
         return self.model.period_s / self.speed_rate if self.model.cyclic else None
 
     @classmethod
-    def from_file(cls, path: str | Path, **kwargs) -> "NeuralPlayer":
+    def from_file(cls, path: str | Path, **kwargs) -> NeuralPlayer:
         """Load a ``.mimic`` model (raises ``ModelFileError`` for a bad file)."""
         from mimic.learn.model_file import load_model
 

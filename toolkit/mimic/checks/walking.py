@@ -7,8 +7,8 @@ Used by the tests and the benchmarks; they see the agents exactly as the recorde
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Callable
 
 import numpy as np
 

@@ -56,7 +56,7 @@ class LegGeometry:
     sole_m: tuple[float, float]
 
     @classmethod
-    def from_description(cls) -> "LegGeometry":
+    def from_description(cls) -> LegGeometry:
         hip = np.array(body_by_name("left_hip1").anchor)
         knee = np.array(body_by_name("left_shank").anchor)
         ankle = np.array(body_by_name("left_ankle").anchor)
