@@ -6,19 +6,19 @@ the other team's walk, recorded, learned, and tried side by side with the study'
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Callable
 
 import polars as pl
 
+from mimic.agents.registry import AgentSpec
 from mimic.learn.model_file import save_model
 from mimic.learn.train import TARGET_REACHED, TrainConfig, train_model, training_dataset
 from mimic.recording.layout import JOINT_STATES
 from mimic.recording.recorder import record
 from mimic.trials.api import TrialResult, kick_trial, walk_trial
 from mimic.trials.report import STUDY_KICK, STUDY_WALK
-from mimic.agents.registry import AgentSpec
 
 __all__ = ["PaperResult", "record_and_train", "train_and_save", "demo", "reproduce_paper", "network_summary"]
 

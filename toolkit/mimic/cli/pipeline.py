@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Annotated, Optional
+from typing import Annotated
 
 import polars as pl
 import typer
@@ -30,7 +30,7 @@ def demo(
     out: Annotated[Path, typer.Option("--out", "-o", help="Folder for the files it writes.")] = Path("out/demo"),
     minutes: Annotated[float, typer.Option(help="Simulated minutes of kick trial per variant.")] = 2.0,
     seed: Annotated[int, typer.Option(help="Seed of recording, training and trial.")] = 0,
-    workers: Annotated[Optional[int], typer.Option(help="Worker processes (default: all cores).")] = None,
+    workers: Annotated[int | None, typer.Option(help="Worker processes (default: all cores).")] = None,
 ) -> None:
     """Record our kick, learn it, and try the original and the learned kick side by side."""
     from mimic.pipeline import demo as run_demo
@@ -57,7 +57,7 @@ def paper(
     out: Annotated[Path, typer.Option("--out", "-o", help="Folder for the files it writes.")] = Path("out/paper"),
     minutes: Annotated[float, typer.Option(help="Simulated minutes per trial and variant.")] = 30.0,
     seed: Annotated[int, typer.Option(help="Seed of recording, training and trials.")] = 0,
-    workers: Annotated[Optional[int], typer.Option(help="Worker processes (default: all cores).")] = None,
+    workers: Annotated[int | None, typer.Option(help="Worker processes (default: all cores).")] = None,
 ) -> None:
     """Reproduce the study: record, learn and try our kick and the other team's walk."""
     from mimic.pipeline import reproduce_paper

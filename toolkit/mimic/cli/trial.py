@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from dataclasses import replace
 from pathlib import Path
-from typing import Annotated, Optional
+from typing import Annotated
 
 import typer
 from rich import box
@@ -111,16 +111,16 @@ def _dashboard(result, save_rrd: Path | None, rerun: bool) -> None:
 @trial_app.command("kick")
 @reports_errors
 def kick(
-    variants: Annotated[Optional[list[str]], _VARIANTS] = None,
+    variants: Annotated[list[str] | None, _VARIANTS] = None,
     compare: Annotated[bool, _COMPARE] = False,
-    motion: Annotated[Optional[str], _MOTION] = None,
-    model: Annotated[Optional[str], _MODEL] = None,
+    motion: Annotated[str | None, _MOTION] = None,
+    model: Annotated[str | None, _MODEL] = None,
     minutes: Annotated[float, typer.Option(help="Simulated minutes per variant.")] = 30.0,
     seed: Annotated[int, typer.Option(help="Seed; the same seed gives the same table.")] = 0,
-    workers: Annotated[Optional[int], typer.Option(help="Worker processes (default: all cores).")] = None,
+    workers: Annotated[int | None, typer.Option(help="Worker processes (default: all cores).")] = None,
     balance: Annotated[bool, typer.Option(help="Wrap learned motions in balance feedback.")] = False,
-    out: Annotated[Optional[Path], typer.Option("--out", "-o", help="Parquet file of every kick.")] = None,
-    save_rrd: Annotated[Optional[Path], _SAVE_RRD] = None,
+    out: Annotated[Path | None, typer.Option("--out", "-o", help="Parquet file of every kick.")] = None,
+    save_rrd: Annotated[Path | None, _SAVE_RRD] = None,
     rerun: Annotated[bool, _RERUN] = False,
 ) -> None:
     """Kick trial: kick toward the goal, walk to the ball, kick again until a goal; repeat."""
@@ -139,18 +139,18 @@ def kick(
 @trial_app.command("walk")
 @reports_errors
 def walk(
-    variants: Annotated[Optional[list[str]], _VARIANTS] = None,
+    variants: Annotated[list[str] | None, _VARIANTS] = None,
     compare: Annotated[bool, _COMPARE] = False,
-    motion: Annotated[Optional[str], _MOTION] = None,
-    model: Annotated[Optional[str], _MODEL] = None,
-    minutes: Annotated[Optional[float], typer.Option(help="Simulated minutes per variant.")] = None,
-    runs: Annotated[Optional[int], typer.Option(help="Runs per variant (instead of minutes).")] = None,
+    motion: Annotated[str | None, _MOTION] = None,
+    model: Annotated[str | None, _MODEL] = None,
+    minutes: Annotated[float | None, typer.Option(help="Simulated minutes per variant.")] = None,
+    runs: Annotated[int | None, typer.Option(help="Runs per variant (instead of minutes).")] = None,
     seed: Annotated[int, typer.Option(help="Seed; the same seed gives the same table.")] = 0,
-    workers: Annotated[Optional[int], typer.Option(help="Worker processes (default: all cores).")] = None,
+    workers: Annotated[int | None, typer.Option(help="Worker processes (default: all cores).")] = None,
     balance: Annotated[bool, typer.Option(help="Wrap learned motions in balance feedback.")] = False,
     speed_rate: Annotated[float, typer.Option(help="Phase-rate multiplier for learned cyclic motions.")] = 1.0,
-    out: Annotated[Optional[Path], typer.Option("--out", "-o", help="Parquet file of every run.")] = None,
-    save_rrd: Annotated[Optional[Path], _SAVE_RRD] = None,
+    out: Annotated[Path | None, typer.Option("--out", "-o", help="Parquet file of every run.")] = None,
+    save_rrd: Annotated[Path | None, _SAVE_RRD] = None,
     rerun: Annotated[bool, _RERUN] = False,
 ) -> None:
     """Walk trial: from the own goal line to the centre line (15 m), repeated."""

@@ -8,8 +8,8 @@ behaviours every episode shares: standing still, waiting limp, getting up after 
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Callable
 
 from mimic.agents.base import Agent
 from mimic.agents.hold import Limp

@@ -113,6 +113,6 @@ class Movement:
             times, keys = np.array([0.0, 1e-3]), np.vstack([keys, keys])
         return NaturalCubicSpline(times, keys)
 
-    def with_speed_rate(self, speed_rate: float) -> "Movement":
+    def with_speed_rate(self, speed_rate: float) -> Movement:
         return Movement(self.name, self.steps, speed_rate, self.ball_offset_m,
                         self.start_posture, self.robot)

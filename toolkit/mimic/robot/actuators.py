@@ -46,11 +46,11 @@ class JointCommand:
             raise ValueError("a JointCommand holds references or speeds, exactly one of them")
 
     @classmethod
-    def references(cls, reference_rad: np.ndarray) -> "JointCommand":
+    def references(cls, reference_rad: np.ndarray) -> JointCommand:
         return cls(reference_rad=np.asarray(reference_rad, dtype=float))
 
     @classmethod
-    def speeds(cls, speed_rad_s: np.ndarray) -> "JointCommand":
+    def speeds(cls, speed_rad_s: np.ndarray) -> JointCommand:
         return cls(speed_rad_s=np.asarray(speed_rad_s, dtype=float))
 
 

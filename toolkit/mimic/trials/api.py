@@ -2,16 +2,16 @@
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
-from typing import Callable
 
 import polars as pl
 
+from mimic.agents.registry import AgentSpec
 from mimic.trials.kick import KickTrialConfig, run_kick_episode
 from mimic.trials.parallel import EpisodeBatch, run_episodes
 from mimic.trials.report import kick_summary, walk_summary, with_ratios, write_rows, write_summary
-from mimic.agents.registry import AgentSpec
 from mimic.trials.walk import WalkTrialConfig, run_walk_episode
 
 __all__ = ["TrialResult", "kick_trial", "walk_trial"]
