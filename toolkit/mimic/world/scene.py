@@ -18,8 +18,13 @@ from dataclasses import dataclass
 import mujoco
 
 from mimic.robot.actuators import SpeedServos
-from mimic.robot.mjcf import (FOOT_SITES, robot_actuator_xml, robot_default_xml,
-                              robot_sensor_xml, robot_worldbody_xml)
+from mimic.robot.mjcf import (
+    FOOT_SITES,
+    robot_actuator_xml,
+    robot_default_xml,
+    robot_sensor_xml,
+    robot_worldbody_xml,
+)
 from mimic.robot.model import RobotDescription
 from mimic.world import field as F
 
@@ -43,7 +48,7 @@ class PhysicsConfig:
     ground_friction: float = 1.0
 
     @classmethod
-    def for_robot(cls, robot: RobotDescription) -> "PhysicsConfig":
+    def for_robot(cls, robot: RobotDescription) -> PhysicsConfig:
         """The settings a robot is simulated with: the study's 4 ms step for our NAO, the
         league server's 5 ms step for robots loaded from its MJCF files."""
         return cls() if robot.mjcf_path is None else cls(timestep_s=0.005)
