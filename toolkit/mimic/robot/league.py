@@ -6,11 +6,14 @@ joints' ``actuatorfrcrange``. Only what an MJCF does not say is stated here, per
 (left side; the right side mirrors it): the stand pose and the PD gains.
 
 Gains: the league server applies torque = kp (q_ref - q) + kd (dq_ref - dq) + tau with the
-gains the agent sends, so they are ours to choose. Ours sit between Booster's training gains
-(booster_gym T1: kp 100 / kd 2 on hips and knees, kp 20 on ankles; booster_deploy K1: kp 80 /
-kd 2 on legs) and its stiffer "prepare" gains (kp 350 on hips and knees), where RoboCup teams
-run their walks: stiff enough that the robot stands in a bent-knee ready pose without
-sagging, soft enough for a 5 ms physics step.
+gains the agent sends, so they are ours to choose. Legs sit between Booster's training gains
+(booster_gym T1: kp 100 / kd 2 on hips and knees) and its stand-up ("prepare") gains (kp 350
+on hips and knees, 350-450 on ankles); arms and head are soft (kp 10-40). Ankle pitch is the
+exception to "soft ankles": with only PD motors and no balance feedback the robot is an
+inverted pendulum on its ankles, which topples unless the two ankles together are stiffer
+than m g h (T1: 31.6 kg, centre of mass 0.58 m up: 180 N m/rad, so 90 each; K1: 45 each).
+Ours are about twice that, since knees and hips also give a little: the T1 at kp 100 or 120
+falls over within 3 s, at 150 it stands leaning 2 degrees, at 200 upright.
 """
 
 from __future__ import annotations
@@ -54,9 +57,10 @@ _KINDS = ("Head_yaw", "Head_pitch", "Shoulder_Pitch", "Shoulder_Roll", "Elbow_Pi
           "Elbow_Yaw", "Waist", "Hip_Pitch", "Hip_Roll", "Hip_Yaw", "Knee_Pitch",
           "Ankle_Pitch", "Ankle_Roll")
 
-# Ready pose: knees bent 0.4 rad, hip and ankle pitch sharing it so the soles stay parallel
-# to the torso (Booster's own default pose); arms hanging 0.2 rad forward of the body with the
-# forearms turned in, clear of the thighs.
+# Ready pose (Booster's own default): knees bent 0.4 rad, hip and ankle pitch sharing it so
+# the soles stay parallel to the upright torso; the knees' and ankles' sag under the load
+# cancel, so the torso stays upright with the centre of mass 2-3 cm ahead of the ankles,
+# over the soles. Arms hang 0.2 rad forward, forearms turned in, clear of body and thighs.
 _T1 = _Tuning(
     title="Booster T1 (RoboCup league)",
     folder="T1",
@@ -67,9 +71,10 @@ _T1 = _Tuning(
            "Elbow_Pitch": (30, 1), "Elbow_Yaw": (30, 1),
            "Waist": (150, 4),
            "Hip_Pitch": (200, 5), "Hip_Roll": (200, 5), "Hip_Yaw": (150, 4),
-           "Knee_Pitch": (200, 5), "Ankle_Pitch": (50, 1.5), "Ankle_Roll": (50, 1.5)},
+           "Knee_Pitch": (200, 5), "Ankle_Pitch": (200, 4), "Ankle_Roll": (50, 1.5)},
 )
-# The K1 (two thirds of the T1's mass, shorter legs): the same pose, gains scaled down.
+# The K1 (two thirds of the T1's mass, shorter legs): the same legs, arms out as Booster
+# has them; gains scaled down with the load.
 _K1 = _Tuning(
     title="Booster K1 (RoboCup league)",
     folder="K1",
@@ -79,14 +84,14 @@ _K1 = _Tuning(
            "Shoulder_Pitch": (20, 0.5), "Shoulder_Roll": (20, 0.5),
            "Elbow_Pitch": (20, 0.5), "Elbow_Yaw": (20, 0.5),
            "Hip_Pitch": (120, 3), "Hip_Roll": (120, 3), "Hip_Yaw": (80, 2),
-           "Knee_Pitch": (120, 3), "Ankle_Pitch": (40, 1), "Ankle_Roll": (40, 1)},
+           "Knee_Pitch": (120, 3), "Ankle_Pitch": (100, 2.5), "Ankle_Roll": (40, 1)},
 )
 _TUNING = {"t1": _T1, "k1": _K1}
 #: Names of the league robots.
 LEAGUE_ROBOTS = tuple(_TUNING)
 
-# Fall thresholds as fractions of the stand pose's torso height (our NAO: 0.22 / 0.28 m of
-# about 0.36 m).
+# Fall thresholds as fractions of the stand pose's torso height, as our NAO's (0.22 and
+# 0.28 m of 0.37 m).
 _FALLEN_BELOW, _UPRIGHT_ABOVE = 0.6, 0.8
 _FALLEN_TILT, _UPRIGHT_TILT = math.radians(60), math.radians(25)
 
@@ -129,13 +134,17 @@ def _gains(mjcf: MjcfRobot, table: dict[str, tuple[float, float]]) -> np.ndarray
     return np.array([table[_kind(h.name)] for h in mjcf.hinges], dtype=float)
 
 
-@cache
 def league_robot(name: str) -> RobotDescription:
-    """The league robot ``t1`` or ``k1`` (read once, then cached)."""
+    """The league robot ``t1`` or ``k1`` (any case; read once, then cached)."""
     key = name.lower()
     if key not in _TUNING:
         raise MimicError(f"unknown league robot {name!r}; league robots: "
                          f"{', '.join(LEAGUE_ROBOTS)}")
+    return _league_robot(key)
+
+
+@cache
+def _league_robot(key: str) -> RobotDescription:
     tuning, path = _TUNING[key], league_mjcf_path(key)
     mjcf = read_mjcf(path)
     stand, gains = _stand_pose(mjcf, tuning.stand_rad), _gains(mjcf, tuning.gains)

@@ -96,7 +96,9 @@ def read_mjcf(path: Path) -> MjcfRobot:
     m = load_model(path)
     d = mujoco.MjData(m)
     mujoco.mj_kinematics(m, d)  # zero pose: the mirror-symmetric configuration
-    body = lambda b: mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_BODY, b)  # noqa: E731
+    def body(b) -> str:
+        return m.body(int(b)).name
+
     hinges = tuple(
         MjcfHinge(m.joint(j).name, float(m.jnt_range[j, 0]), float(m.jnt_range[j, 1]),
                   _unit(m.jnt_axis[j]), _unit(d.xaxis[j]),
@@ -146,7 +148,9 @@ def _groups(m: mujoco.MjModel, d: mujoco.MjData, hinges) -> tuple[dict[str, str]
                     key=lambda b: d.xpos[b, 2])
     if len(leaves) < 4:
         raise MimicError("expected a humanoid: two feet, a head and hands as leaf bodies")
-    side = lambda b: "left" if d.xpos[b, 1] > 0 else "right"  # noqa: E731
+    def side(b) -> str:
+        return "left" if d.xpos[b, 1] > 0 else "right"
+
     limb = {b: f"{side(b)}_leg" for b in leaves[:2]}
     limb |= {b: f"{side(b)}_arm" for b in leaves[2:-1]}
     limb[leaves[-1]] = "head"
