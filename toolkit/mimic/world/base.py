@@ -16,7 +16,7 @@ import numpy as np
 from mimic.geometry import yaw_from_quat
 from mimic.robot.actuators import JointCommand
 from mimic.robot.model import RobotDescription
-from mimic.world import field as F
+from mimic.world.field import Field
 
 __all__ = ["World", "Observation", "CYCLE_S", "BodyPoses", "POSTURES"]
 
@@ -76,6 +76,8 @@ class World(ABC):
 
     #: The robot this world simulates.
     robot: RobotDescription
+    #: The field and ball it plays on.
+    field: Field
 
     # --- placing things -------------------------------------------------------------------
     @abstractmethod
@@ -166,13 +168,8 @@ class World(ABC):
 
     def goal_scored(self) -> bool:
         """Ball wholly behind the opponent goal line, between the posts, under the bar."""
-        x, y, z = self.ball_pos_m()
-        return (x > F.OPPONENT_GOAL_X_M + F.BALL_RADIUS_M and abs(y) < F.GOAL_WIDTH_M / 2
-                and z < F.GOAL_HEIGHT_M)
+        return self.field.goal(self.ball_pos_m())
 
     def ball_out(self) -> bool:
         """Ball wholly outside the field lines (and not a goal)."""
-        x, y, _ = self.ball_pos_m()
-        r = F.BALL_RADIUS_M
-        return (abs(x) > F.FIELD_LENGTH_M / 2 + r or abs(y) > F.FIELD_WIDTH_M / 2 + r) \
-            and not self.goal_scored()
+        return self.field.out(self.ball_pos_m())

@@ -1,11 +1,16 @@
 """Field, goal and ball dimensions: the one place that knows them.
 
 Field frame: origin at the centre spot, x toward the opponent goal, y to the left, z up [m].
+The constants are the study's field (SimSpark's); ``Field`` holds a field as data, so a
+world can carry its own (``NAO_FIELD`` here, the league's in ``mimic.league``).
 """
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 __all__ = [
+    "Field", "NAO_FIELD",
     "FIELD_LENGTH_M", "FIELD_WIDTH_M", "GOAL_WIDTH_M", "GOAL_HEIGHT_M", "GOAL_DEPTH_M",
     "PENALTY_DEPTH_M", "PENALTY_WIDTH_M", "CENTRE_CIRCLE_RADIUS_M", "LINE_WIDTH_M",
     "BALL_RADIUS_M", "BALL_MASS_KG", "OPPONENT_GOAL_X_M", "OWN_GOAL_X_M",
@@ -26,3 +31,44 @@ BALL_MASS_KG = 0.026
 OPPONENT_GOAL_X_M = FIELD_LENGTH_M / 2
 #: x of the goal line the robot defends.
 OWN_GOAL_X_M = -FIELD_LENGTH_M / 2
+
+
+@dataclass(frozen=True)
+class Field:
+    """A soccer field and its ball [m, kg]; goals centred on the x axis at +-length/2."""
+
+    length_m: float
+    width_m: float
+    goal_width_m: float
+    goal_height_m: float
+    goal_depth_m: float
+    ball_radius_m: float
+    ball_mass_kg: float
+
+    @property
+    def opponent_goal_x_m(self) -> float:
+        """x of the goal line the robot attacks."""
+        return self.length_m / 2
+
+    @property
+    def own_goal_x_m(self) -> float:
+        """x of the goal line the robot defends."""
+        return -self.length_m / 2
+
+    def goal(self, ball_pos_m) -> bool:
+        """Ball wholly behind the opponent goal line, between the posts, under the bar."""
+        x, y, z = ball_pos_m
+        return (x > self.opponent_goal_x_m + self.ball_radius_m
+                and abs(y) < self.goal_width_m / 2 and z < self.goal_height_m)
+
+    def out(self, ball_pos_m) -> bool:
+        """Ball wholly outside the field lines (and not a goal)."""
+        x, y, _ = ball_pos_m
+        r = self.ball_radius_m
+        return ((abs(x) > self.length_m / 2 + r or abs(y) > self.width_m / 2 + r)
+                and not self.goal(ball_pos_m))
+
+
+#: The study's field (the RoboCup Soccer 3D league's SimSpark field) and ball.
+NAO_FIELD = Field(FIELD_LENGTH_M, FIELD_WIDTH_M, GOAL_WIDTH_M, GOAL_HEIGHT_M, GOAL_DEPTH_M,
+                  BALL_RADIUS_M, BALL_MASS_KG)

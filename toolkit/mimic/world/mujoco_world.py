@@ -14,8 +14,8 @@ import numpy as np
 from mimic.robot.actuators import JointCommand
 from mimic.robot.model import RobotDescription
 from mimic.robot.registry import get_robot
-from mimic.world import field as F
 from mimic.world.base import CYCLE_S, POSTURES, BodyPoses, Observation, World
+from mimic.world.field import NAO_FIELD
 from mimic.world.scene import FOOT_TOUCH_SENSORS, PhysicsConfig, build_model
 
 __all__ = ["MujocoWorld"]
@@ -38,6 +38,7 @@ class MujocoWorld(World):
     def __init__(self, robot: RobotDescription | str | None = None,
                  physics: PhysicsConfig | None = None) -> None:
         self.robot = get_robot(robot)
+        self.field = NAO_FIELD
         self.physics = physics or PhysicsConfig.for_robot(self.robot)
         self.model = build_model(self.robot, self.physics)
         self.data = mujoco.MjData(self.model)
@@ -118,7 +119,7 @@ class MujocoWorld(World):
 
     def place_ball(self, x_m: float, y_m: float) -> None:
         d = self.data
-        d.qpos[self._ball_q:self._ball_q + 7] = (x_m, y_m, F.BALL_RADIUS_M, 1, 0, 0, 0)
+        d.qpos[self._ball_q:self._ball_q + 7] = (x_m, y_m, self.field.ball_radius_m, 1, 0, 0, 0)
         d.qvel[self._ball_v:self._ball_v + 6] = 0.0
         mujoco.mj_forward(self.model, self.data)
 
