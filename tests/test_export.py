@@ -4,14 +4,12 @@ import json
 
 import numpy as np
 import pytest
+from _learn_helpers import NAO, joint_frame, smooth_motion
 
 from mimic.learn.dataset import dataset_from_frame
 from mimic.learn.export import export_onnx
 from mimic.learn.presets import FAST, PAPER
 from mimic.learn.train import TrainConfig, train_model
-from mimic.robot.joints import JOINT_NAMES
-
-from _learn_helpers import joint_frame, smooth_motion
 
 ort = pytest.importorskip("onnxruntime")
 
@@ -28,5 +26,6 @@ def test_onnx_matches_numpy_model(tmp_path, preset, period_s):
     assert out.shape == (61, 23)
     np.testing.assert_allclose(out, model.predict(times[:, 0].astype(np.float64)), atol=1e-5)
     meta = {p.key: p.value for p in __import__("onnx").load(str(path)).metadata_props}
-    assert json.loads(meta["joint_names"]) == list(JOINT_NAMES)
+    assert json.loads(meta["joint_names"]) == list(NAO.joint_names)
+    assert meta["robot"] == "nao" and meta["num_joints"] == "22"
     assert meta["input_kind"] == ("phase" if period_s else "time")

@@ -3,6 +3,7 @@
 import numpy as np
 import polars as pl
 import pytest
+from _learn_helpers import NAO, PAPER_DATA, joint_frame, smooth_motion
 
 from mimic.errors import DatasetError
 from mimic.learn.dataset import dataset_from_file, dataset_from_frame
@@ -10,15 +11,13 @@ from mimic.learn.model import MotionModel
 from mimic.learn.network import Layout
 from mimic.learn.presets import FAST
 from mimic.learn.train import input_mapping
-from mimic.robot.joints import JOINT_NAMES
-
-from _learn_helpers import PAPER_DATA, joint_frame, smooth_motion
 
 
 def test_targets_have_22_joints_and_flag_on_last_sample():
     t, q = smooth_motion(20)
     ds = dataset_from_frame(joint_frame(t + 3.0, q))
     assert ds.targets.shape == (20, 23)
+    assert ds.robot == "nao" and ds.joint_names == NAO.joint_names and ds.num_joints == 22
     assert ds.time_s[0] == 0.0
     np.testing.assert_array_equal(ds.targets[:, :22], q)
     assert ds.targets[-1, 22] == 1.0 and ds.targets[:-1, 22].sum() == 0.0
@@ -36,8 +35,8 @@ def test_cyclic_motion_uses_phase_input():
     t, q = smooth_motion(30)
     ds = dataset_from_frame(joint_frame(t, q), period_s=0.3)
     assert ds.targets[:, 22].sum() == 0.0  # a cyclic motion never ends
-    m = MotionModel(Layout(in_dim=2), np.zeros(Layout(in_dim=2).n_params, np.float32),
-                    **input_mapping(ds, FAST))
+    layout = Layout.for_joints(ds.num_joints, in_dim=2)
+    m = MotionModel(layout, np.zeros(layout.n_params, np.float32), **input_mapping(ds, FAST))
     x = m.network_inputs(np.array([0.0, 0.075, 0.3]))
     np.testing.assert_allclose(x, [[0, 1], [1, 0], [0, 1]], atol=1e-12)
 
@@ -46,7 +45,7 @@ def test_cyclic_motion_uses_phase_input():
     (lambda t, q: joint_frame(t[:0], q[:0]), "empty"),
     (lambda t, q: joint_frame(t[:1], q[:1]), "single sample"),
     (lambda t, q: joint_frame(t, np.where(np.arange(22) == 5, np.nan, q)), "NaN"),
-    (lambda t, q: joint_frame(t, q).drop(JOINT_NAMES[3]), "21 joint columns"),
+    (lambda t, q: joint_frame(t, q).drop(NAO.joint_names[3]), "21 joint columns"),
     (lambda t, q: joint_frame(t, q).with_columns(pl.lit(0.0).alias("tail_wag")), "unexpected tail_wag"),
     (lambda t, q: joint_frame(t[::-1].copy(), q), "time does not increase"),
 ])

@@ -2,14 +2,13 @@
 
 import numpy as np
 import pytest
+from _learn_helpers import NAO, joint_frame, smooth_motion
 
 from mimic.learn.bench import torch_baseline
 from mimic.learn.dataset import dataset_from_frame
 from mimic.learn.network import AdamTrainer, Layout, init_params
 from mimic.learn.presets import FAST, PAPER
 from mimic.learn.train import TrainConfig, train_model, train_models
-
-from _learn_helpers import joint_frame, smooth_motion
 
 
 @pytest.fixture(scope="module")
@@ -19,14 +18,15 @@ def motion():
 
 
 def test_paper_network_has_5123_parameters():
-    assert Layout(in_dim=1).n_params == 5123
-    assert Layout(in_dim=2).n_params == 5123 + 75
+    assert Layout.for_joints(NAO.num_joints, in_dim=1).n_params == 5123
+    assert Layout.for_joints(NAO.num_joints, in_dim=2).n_params == 5123 + 75
+    assert Layout.for_joints(NAO.num_joints).out_dim == 23
 
 
 def test_numpy_trainer_matches_torch_adam(motion):
     torch = pytest.importorskip("torch")
     torch.manual_seed(0)
-    layout = Layout(in_dim=1)
+    layout = Layout.for_joints(motion.num_joints)
     p0 = init_params(layout, np.random.default_rng(3))
     epochs = 300
     torch_losses, _ = torch_baseline(motion, p0, epochs, lr=1e-3)

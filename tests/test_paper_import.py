@@ -7,12 +7,19 @@ import pytest
 
 from mimic.errors import RecordingError
 from mimic.recording import layout as L
-from mimic.recording.paper_import import (PAPER_SIGNS, PAPER_TO_CANONICAL, default_topic,
-                                          import_paper_file, read_paper_table)
+from mimic.recording.paper_import import (
+    PAPER_SIGNS,
+    PAPER_TO_CANONICAL,
+    default_topic,
+    import_paper_file,
+    read_paper_table,
+)
 from mimic.recording.reader import read_joint_table, read_recording
-from mimic.robot.joints import JOINT_NAMES, lower_limits_rad, mirror_angles, upper_limits_rad
+from mimic.robot.registry import get_robot
 
 PAPER = Path(__file__).resolve().parents[2] / "shared" / "paper-data"
+NAO = get_robot("nao")  # the study's files are NAO data
+JOINT_NAMES = NAO.joint_names
 
 
 def _paper(name: str) -> Path:
@@ -45,7 +52,7 @@ def test_kick_fits_our_joint_stops_and_mirror_table():
     assert table["ended"].to_list() == [0.0] * 76 + [1.0]
     q = table.select(JOINT_NAMES).to_numpy()
     tol = np.radians(3)
-    outside = (q < lower_limits_rad() - tol) | (q > upper_limits_rad() + tol)
+    outside = (q < NAO.lower_limits_rad - tol) | (q > NAO.upper_limits_rad + tol)
     # only the kick's knee/hip/ankle targets beyond the stops (the README's 186 deg knee)
     cols = {JOINT_NAMES[i] for i in np.nonzero(outside.any(axis=0))[0]}
     assert cols <= {"left_hip_pitch", "left_knee_pitch", "left_ankle_pitch",
@@ -53,11 +60,11 @@ def test_kick_fits_our_joint_stops_and_mirror_table():
                     "right_ankle_pitch", "right_hip_yaw_pitch"}
     signs = np.array([PAPER_SIGNS[n] for n in JOINT_NAMES])
     unsigned = q * signs  # their raw values, taken with our signs ignored
-    outside_raw = (unsigned < lower_limits_rad() - tol) | (unsigned > upper_limits_rad() + tol)
+    outside_raw = (unsigned < NAO.lower_limits_rad - tol) | (unsigned > NAO.upper_limits_rad + tol)
     assert outside.sum() < 0.5 * outside_raw.sum()
     # the ready pose (second row) is left/right symmetric under our mirror table
     ready = q[1]
-    np.testing.assert_allclose(mirror_angles(ready), ready, atol=0.2)
+    np.testing.assert_allclose(NAO.mirror_angles(ready), ready, atol=0.2)
     assert ready[JOINT_NAMES.index("left_knee_pitch")] < -1.0  # knees bent = negative for us
 
 
@@ -80,8 +87,9 @@ def test_import_round_trips_through_mcap(tmp_path):
     src = _paper("kick_itandroids.txt")
     out = tmp_path / "kick.mcap"
     info = import_paper_file(src, out)
-    assert info.source == "reference"
+    assert info.source == "reference" and info.robot == "nao"
     rec = read_recording(out)
+    assert rec.info.robot == "nao" and rec.info.joint_order == JOINT_NAMES
     assert L.JOINT_REFERENCES in rec.topics and L.JOINT_STATES not in rec.topics
     back = read_joint_table(out, topic=L.JOINT_REFERENCES)
     direct = read_paper_table(src)

@@ -5,18 +5,21 @@ import subprocess
 from pathlib import Path
 
 import numpy as np
-import polars as pl
 import pytest
 
 from mimic.agents.registry import agent_names, make_agent
 from mimic.errors import MimicError, MotionFileError, RecordingError
 from mimic.motion.files import format_motion, load_motion, parse_motion
 from mimic.recording import layout as L
-from mimic.recording.reader import (describe_recording, read_joint_table, read_recording,
-                                    read_tf)
+from mimic.recording.reader import describe_recording, read_joint_table, read_recording, read_tf
 from mimic.recording.recorder import RecordConfig, record
 from mimic.recording.writer import RecordingWriter
-from mimic.robot.joints import JOINT_NAMES, SIM_NAMES
+from mimic.robot.registry import get_robot
+
+NAO = get_robot("nao")
+JOINT_NAMES = NAO.joint_names
+#: The study simulator's names (hj1..rlj6): the NAO's joint aliases.
+SIM_NAMES = tuple(j.aliases[0] for j in NAO.joints)
 
 
 @pytest.fixture(scope="module")
@@ -32,6 +35,7 @@ def test_recording_describes_itself(stand_file):
     assert rec.recovery.complete and not rec.interrupted
     assert rec.info.motion == "stand" and rec.info.team == "mimic"
     assert rec.info.source == "reference" and rec.info.joint_order == JOINT_NAMES
+    assert rec.info.robot == "nao" and rec.info.world == "nao" and rec.robot is NAO
     assert rec.duration_s == pytest.approx(2.0) and rec.rate_hz == pytest.approx(50.0)
     for topic in (L.JOINT_STATES, L.JOINT_REFERENCES, L.ENDED, L.TF):
         assert rec.topics[topic].count == 101

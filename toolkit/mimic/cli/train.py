@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Annotated, Optional
+from typing import Annotated
 
 import typer
 from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
@@ -18,14 +18,16 @@ bench_app = typer.Typer(help="Speed benchmarks (printed ratios vs a baseline run
 
 
 def _metrics_table(models) -> Table:
-    from mimic.robot.joints import JOINT_NAMES
-
     table = Table(title="fit (absolute error, rad)", title_justify="left")
     table.add_column("joint")
     for m in models:
         table.add_column(m.name, justify="right")
-    for j in JOINT_NAMES:
-        table.add_row(j, *(f"{m.metrics['mae_rad_per_joint'][j]:.4f}" for m in models))
+    table.add_row("[bold]robot", *(m.robot for m in models))
+    # Each model's own joints (models of different robots share the table; "-": not its joint).
+    joints = list(dict.fromkeys(j for m in models for j in m.joint_names))
+    for j in joints:
+        errors = (m.metrics["mae_rad_per_joint"].get(j) for m in models)
+        table.add_row(j, *("-" if e is None else f"{e:.4f}" for e in errors))
     rows = [("mean abs error", "mae_rad", "{:.4f}"), ("max error", "max_error_rad", "{:.3f}"),
             ("ended-flag accuracy", "ended_accuracy", "{:.1%}"), ("epochs", "epochs", "{}"),
             ("wall time (s)", "wall_s", "{:.2f}")]
@@ -45,14 +47,14 @@ def register(app: typer.Typer) -> None:
         out: Annotated[Path, typer.Option("-o", "--out", help="Model file (.mimic), or a "
                                           "folder when several inputs are given.")],
         preset: Annotated[str, typer.Option(help="paper (the study's setup) or fast.")] = "fast",
-        epochs: Annotated[Optional[int], typer.Option(help="Total epochs (schedule scaled).")] = None,
+        epochs: Annotated[int | None, typer.Option(help="Total epochs (schedule scaled).")] = None,
         seed: Annotated[int, typer.Option(help="Seed of the initial weights.")] = 0,
-        topic: Annotated[Optional[str], typer.Option(
+        topic: Annotated[str | None, typer.Option(
             help="/joint_references or /joint_states (default: references when present).")] = None,
-        target: Annotated[Optional[str], typer.Option(
+        target: Annotated[str | None, typer.Option(
             help="reached or compensated (default: compensated for /joint_states).")] = None,
         rerun: Annotated[bool, typer.Option("--rerun", help="Stream loss curves to Rerun.")] = False,
-        save_rrd: Annotated[Optional[Path], typer.Option(
+        save_rrd: Annotated[Path | None, typer.Option(
             "--save-rrd", help="Write the loss curves to this .rrd file.")] = None,
     ) -> None:
         """Learn motions as neural networks (one model per input)."""
@@ -107,7 +109,8 @@ def register(app: typer.Typer) -> None:
         model: Annotated[Path, typer.Argument(help="Model file (.mimic).")],
         onnx: Annotated[Path, typer.Option("--onnx", help="Output ONNX file.")],
     ) -> None:
-        """Export a model as ONNX (input: time in seconds; output: 22 angles + ended flag)."""
+        """Export a model as ONNX (input: time in seconds; output: the robot's joint angles +
+        the ended flag)."""
         from mimic.learn.export import export_onnx
         from mimic.learn.model_file import load_model
 

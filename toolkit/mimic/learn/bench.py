@@ -15,6 +15,9 @@ from pathlib import Path
 
 import numpy as np
 
+from mimic.robot.model import RobotDescription
+from mimic.robot.registry import DEFAULT_ROBOT, get_robot
+
 __all__ = ["BenchResult", "bench_train", "kick_dataset", "synthetic_dataset", "torch_baseline"]
 
 _PAPER_DATA = Path(__file__).resolve().parents[4] / "shared" / "paper-data"
@@ -29,41 +32,52 @@ def _single_thread() -> None:
     torch.set_num_threads(1)
 
 
-def synthetic_dataset(n: int = 77, seed: int = 0, name: str = "synthetic"):
-    """A smooth 22-joint motion of ``n`` 20 ms samples (sums of sines) with the ended flag."""
+def synthetic_dataset(n: int = 77, seed: int = 0, name: str = "synthetic",
+                      robot: str | RobotDescription = DEFAULT_ROBOT):
+    """A smooth motion of ``robot``'s N joints, ``n`` 20 ms samples (sums of sines), with the
+    ended flag."""
     import polars as pl
 
     from mimic.learn.dataset import dataset_from_frame
-    from mimic.robot.joints import JOINT_NAMES
+    from mimic.recording.layout import TIME_COLUMN
+    from mimic.world.base import CYCLE_S
 
+    robot = get_robot(robot)
+    shape = (3, robot.num_joints)  # three sines per joint
     rng = np.random.default_rng(seed)
-    t = np.arange(n) * 0.02
-    amp, freq, ph = (rng.uniform(0.1, 0.8, (3, 22)), rng.uniform(0.3, 2.0, (3, 22)),
-                     rng.uniform(0, 6.3, (3, 22)))
+    t = np.arange(n) * CYCLE_S
+    amp, freq, ph = (rng.uniform(0.1, 0.8, shape), rng.uniform(0.3, 2.0, shape),
+                     rng.uniform(0, 6.3, shape))
     q = (amp[:, None] * np.sin(2 * np.pi * freq[:, None] * t[None, :, None] + ph[:, None])).sum(0)
-    frame = pl.DataFrame({"time_s": t, **{j: q[:, i] for i, j in enumerate(JOINT_NAMES)}})
-    return dataset_from_frame(frame, metadata={"motion": name})
+    frame = pl.DataFrame({TIME_COLUMN: t,
+                          **{j: q[:, i] for i, j in enumerate(robot.joint_names)}})
+    return dataset_from_frame(frame, robot=robot, metadata={"motion": name})
 
 
 def kick_dataset(path: Path | None = None):
     """The study's kick (``kick_itandroids.txt``) as a dataset, or None when absent.
 
-    Parsed directly (columns: timestep, 22 joints, hasEnded); signs as in the file, which does
-    not matter for fitting.
+    Parsed directly (columns: timestep, the NAO's joints, hasEnded); signs as in the file, which
+    does not matter for fitting.
     """
     import polars as pl
 
     from mimic.learn.dataset import dataset_from_frame
-    from mimic.robot.joints import JOINT_NAMES
+    from mimic.recording.layout import ENDED_COLUMN, TIME_COLUMN
+    from mimic.recording.paper_import import STUDY_ROBOT
 
     path = path or (_PAPER_DATA / "kick_itandroids.txt")
     if not path.is_file():
         return None
+    robot = get_robot(STUDY_ROBOT)
     rows = [line.strip().split("::") for line in path.read_text().splitlines()[1:] if line.strip()]
     a = np.array(rows, dtype=float)
-    frame = pl.DataFrame({"time_s": a[:, 0], **{j: a[:, 1 + i] for i, j in enumerate(JOINT_NAMES)},
-                          "ended": a[:, 23]})
-    return dataset_from_frame(frame, metadata={"motion": "kick_itandroids", "source": str(path)})
+    n = robot.num_joints
+    frame = pl.DataFrame({TIME_COLUMN: a[:, 0],
+                          **{j: a[:, 1 + i] for i, j in enumerate(robot.joint_names)},
+                          ENDED_COLUMN: a[:, 1 + n]})
+    return dataset_from_frame(frame, robot=robot,
+                              metadata={"motion": "kick_itandroids", "source": str(path)})
 
 
 def torch_baseline(dataset, params0: np.ndarray, epochs: int, lr: float = 1e-3):
@@ -75,10 +89,14 @@ def torch_baseline(dataset, params0: np.ndarray, epochs: int, lr: float = 1e-3):
 
     from mimic.learn.network import LEAKY_SLOPE, Layout
 
-    layout = Layout(in_dim=1)
-    net = torch.nn.Sequential(torch.nn.Linear(1, 75), torch.nn.LeakyReLU(LEAKY_SLOPE),
-                              torch.nn.Linear(75, 50), torch.nn.LeakyReLU(LEAKY_SLOPE),
-                              torch.nn.Linear(50, 23))
+    layout = Layout.for_joints(dataset.num_joints)
+    w = layout.widths
+    layers = []
+    for i in range(len(w) - 1):
+        layers.append(torch.nn.Linear(w[i], w[i + 1]))
+        if i < len(w) - 2:
+            layers.append(torch.nn.LeakyReLU(LEAKY_SLOPE))
+    net = torch.nn.Sequential(*layers)
     with torch.no_grad():
         for lin, (w, b) in zip(net[::2], layout.layers(params0)):
             lin.weight.copy_(torch.from_numpy(w.T.copy()))
@@ -154,7 +172,7 @@ def bench_train(baseline_epochs: int = 2000, batch_k: int = 8, batch_epochs: int
     data = "study kick (77 samples)"
     if ds is None:
         ds, data = synthetic_dataset(), "synthetic 77-sample motion (study data absent)"
-    params0 = init_params(Layout(in_dim=1), np.random.default_rng(seed))
+    params0 = init_params(Layout.for_joints(ds.num_joints), np.random.default_rng(seed))
     _, base_s = torch_baseline(ds, params0, baseline_epochs)
     start, cpu = time.perf_counter(), time.process_time()
     paper = train_model(ds, TrainConfig(PAPER, seed=seed))

@@ -3,9 +3,11 @@
 The study learned its walk from joint angles *reached* in the simulator and replayed the
 network's output through the same proportional tracking, so the motion was attenuated twice
 (and the learned walk lost most of its speed). Given observed angles q[k] (``/joint_states``,
-one sample per 20 ms cycle) we instead solve for the reference r[k] that the controller
+one sample per 20 ms cycle) we instead solve for the reference r[k] that the robot's speed
+servos (``mimic.robot.actuators.SpeedServos.track``, gain and cap from the robot's actuator
+model)
 
-    speed[k] = clip(gain * (r[k] - q[k]), -cap, cap)      (``mimic.agents.tracking``)
+    speed[k] = clip(gain * (r[k] - q[k]), -cap, cap)
 
 must receive so the joint moves from q[k] to q[k+1]:
 
@@ -26,6 +28,9 @@ must receive so the joint moves from q[k] to q[k+1]:
   (default cap/gain: a reference that far past a stop already asks for the full speed cap at
   the stop, so clipping there changes no command; farther references only make the network's
   job harder).
+
+Only robots with speed servos (our NAO) track references this way; for a robot with PD
+motors (the league's T1 and K1) compensation is not defined and is refused.
 """
 
 from __future__ import annotations
@@ -34,21 +39,20 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from mimic.agents.tracking import DEFAULT_GAIN_PER_S
-from mimic.robot.joints import lower_limits_rad, upper_limits_rad
-from mimic.robot.mjcf import MAX_JOINT_SPEED_RAD_S
+from mimic.errors import MimicError
+from mimic.robot.actuators import SpeedServos
+from mimic.robot.model import RobotDescription
+from mimic.robot.registry import get_robot
 
-__all__ = ["CompensationConfig", "compensate_references", "simulate_tracking"]
+__all__ = ["CompensationConfig", "compensate_references", "references_from_angles",
+           "simulate_tracking", "speed_servos"]
 
 
 @dataclass(frozen=True)
 class CompensationConfig:
-    """How references are reconstructed from observed angles."""
+    """How references are reconstructed from observed angles (the gain and the speed cap
+    are the robot's: its ``SpeedServos``)."""
 
-    # Proportional tracking gain [1/s] (the players' ``TrackingController``).
-    gain_per_s: float = DEFAULT_GAIN_PER_S
-    # Joint speed cap [rad/s].
-    max_speed_rad_s: float = MAX_JOINT_SPEED_RAD_S
     # A sample counts as saturated when |speed| >= cap * (1 - this).
     saturation_tol: float = 0.02
     # Extra lead past the saturation bound (share of cap/gain), so the replayed command stays
@@ -61,18 +65,53 @@ class CompensationConfig:
     saturated_reference: str = "nearest"
 
 
-def compensate_references(time_s: np.ndarray, angles_rad: np.ndarray,
-                          config: CompensationConfig = CompensationConfig()) -> np.ndarray:
-    """References (N, J) that reproduce observed angles (N, J) [rad] sampled at times (N,) [s].
+def speed_servos(robot: str | RobotDescription) -> SpeedServos:
+    """The robot's speed servos, or one clear line for a robot that has none.
 
-    J is 22 for clipping to the robot's joint limits; other widths skip the limit clip.
+    Raises:
+        MimicError: the robot has PD motors (they track a reference by torque, so there is no
+            speed command to invert).
     """
+    robot = get_robot(robot)
+    if not isinstance(robot.actuator, SpeedServos):
+        raise MimicError(f"compensated targets need speed servos; the {robot.name} has "
+                         f"{robot.actuator.kind}: learn its reached angles (--target reached)")
+    return robot.actuator
+
+
+def compensate_references(time_s: np.ndarray, angles_rad: np.ndarray,
+                          robot: str | RobotDescription,
+                          config: CompensationConfig = CompensationConfig()) -> np.ndarray:
+    """References (T, N) that reproduce observed angles (T, N) [rad] of ``robot`` (its joint
+    order) sampled at times (T,) [s] through its speed servos, clipped to its joint limits
+    widened by ``config.limit_margin_rad``.
+
+    Raises:
+        MimicError: the robot has no speed servos (``speed_servos``), or the angles are not
+            (T, N) for its N joints.
+    """
+    robot = get_robot(robot)
+    servos = speed_servos(robot)
+    q = np.asarray(angles_rad, dtype=float)
+    if q.ndim != 2 or q.shape[1] != robot.num_joints:
+        raise MimicError(f"compensation: the {robot.name} has {robot.num_joints} joints, got "
+                         f"angles of shape {q.shape}")
+    ref = references_from_angles(time_s, q, servos, config)
+    gain, cap = servos.tracking_gain_per_s, servos.max_speed_rad_s
+    m = cap / gain if config.limit_margin_rad is None else config.limit_margin_rad
+    return np.clip(ref, robot.lower_limits_rad - m, robot.upper_limits_rad + m)
+
+
+def references_from_angles(time_s: np.ndarray, angles_rad: np.ndarray, servos: SpeedServos,
+                           config: CompensationConfig = CompensationConfig()) -> np.ndarray:
+    """The inversion alone: references (T, J) that drive ``servos`` through observed angles
+    (T, J) [rad] at times (T,) [s], for any J joints (no limit clip)."""
     if config.saturated_reference not in ("nearest", "toward"):
         raise ValueError(f"saturated_reference must be 'nearest' or 'toward', "
                          f"got {config.saturated_reference!r}")
     t = np.asarray(time_s, dtype=float)
     q = np.asarray(angles_rad, dtype=float)
-    gain, cap = config.gain_per_s, config.max_speed_rad_s
+    gain, cap = servos.tracking_gain_per_s, servos.max_speed_rad_s
     speed = np.zeros_like(q)
     if len(t) > 1:
         speed[:-1] = np.diff(q, axis=0) / np.diff(t)[:, None]
@@ -97,25 +136,20 @@ def compensate_references(time_s: np.ndarray, angles_rad: np.ndarray,
             else:
                 ref[seg, j] = np.maximum(bound, target) if sign > 0 else np.minimum(bound, target)
             k = end
-    if q.shape[1] == len(lower_limits_rad()):
-        m = cap / gain if config.limit_margin_rad is None else config.limit_margin_rad
-        ref = np.clip(ref, lower_limits_rad() - m, upper_limits_rad() + m)
     return ref
 
 
 def simulate_tracking(time_s: np.ndarray, reference_rad: np.ndarray, start_rad: np.ndarray,
-                      config: CompensationConfig = CompensationConfig()) -> np.ndarray:
-    """Angles (N, J) of ideal first-order joints driven by the proportional speed controller
-    toward references (N, J): q[k+1] = q[k] + dt * clip(gain (r[k] - q[k]), +-cap).
+                      servos: SpeedServos) -> np.ndarray:
+    """Angles (T, J) of ideal first-order joints driven by ``servos`` toward references
+    (T, J) [rad]: q[k+1] = q[k] + dt * servos.track(r[k], q[k]).
 
-    The model ``compensate_references`` inverts (no servo lag, no stops, no load).
+    The model ``references_from_angles`` inverts (no servo lag, no stops, no load).
     """
     t = np.asarray(time_s, dtype=float)
     r = np.asarray(reference_rad, dtype=float)
     q = np.empty_like(r)
     q[0] = start_rad
     for k in range(len(t) - 1):
-        v = np.clip(config.gain_per_s * (r[k] - q[k]), -config.max_speed_rad_s,
-                    config.max_speed_rad_s)
-        q[k + 1] = q[k] + (t[k + 1] - t[k]) * v
+        q[k + 1] = q[k] + (t[k + 1] - t[k]) * servos.track(r[k], q[k])
     return q

@@ -1,11 +1,12 @@
 """Training data: a joint table (polars) in, time and target arrays out.
 
 A joint table has the layout of ``mimic.recording.reader.read_joint_table``: ``time_s`` [s]
-from the motion start, the 22 canonical joint names in joint-table order [rad], optionally
-``ended`` (0/1). Targets are the 22 joints plus the ended flag, which is 1 on the last sample
-only (as in the study); a table whose ``ended`` column turns 1 is cut after that row (samples
-after the motion ended are not part of it). Cyclic motions (``period_s`` given) never end: their
-flag target is 0 everywhere and the network input is the periodic phase (sin, cos).
+from the motion start, the robot's N joint names in its order [rad], optionally ``ended``
+(0/1). A dataset carries its robot (name) and joint names; its targets are the N joints plus
+the ended flag, which is 1 on the last sample only (as in the study); a table whose ``ended``
+column turns 1 is cut after that row (samples after the motion ended are not part of it).
+Cyclic motions (``period_s`` given) never end: their flag target is 0 everywhere and the
+network input is the periodic phase (sin, cos).
 """
 
 from __future__ import annotations
@@ -18,17 +19,11 @@ import numpy as np
 import polars as pl
 
 from mimic.errors import DatasetError, MimicError
-from mimic.robot.joints import JOINT_NAMES, NUM_JOINTS
+from mimic.recording.layout import ENDED_COLUMN, TIME_COLUMN
+from mimic.robot.model import RobotDescription
+from mimic.robot.registry import DEFAULT_ROBOT, get_robot
 
-__all__ = ["Dataset", "dataset_from_frame", "dataset_from_file", "TIME_COLUMN", "ENDED_COLUMN",
-           "REFERENCES_TOPIC", "STATES_TOPIC"]
-
-TIME_COLUMN = "time_s"
-ENDED_COLUMN = "ended"
-#: Topic with our own controllers' commanded references.
-REFERENCES_TOPIC = "/joint_references"
-#: Topic with the joint angles the simulator reports (observed motions).
-STATES_TOPIC = "/joint_states"
+__all__ = ["Dataset", "dataset_from_frame", "dataset_from_file"]
 
 
 @dataclass(frozen=True)
@@ -36,8 +31,10 @@ class Dataset:
     """One motion to learn.
 
     Attributes:
-        time_s: (N,) sample times from the motion start [s], increasing.
-        targets: (N, 23) 22 joint angles [rad] in joint-table order + the ended flag (0/1).
+        time_s: (T,) sample times from the motion start [s], increasing.
+        targets: (T, N + 1) joint angles [rad] in ``joint_names`` order + the ended flag (0/1).
+        robot: name of the robot the motion belongs to (``mimic.robot.registry``).
+        joint_names: (N,) the robot's joint names, its order.
         period_s: period of a cyclic motion [s] (input = phase), or None (input = time).
         metadata: where it came from: ``motion``, ``team``, ``ball_offset_m``, ``source``
             (file), ``topic``, ``target`` (``reached`` or ``compensated``), ...
@@ -45,30 +42,37 @@ class Dataset:
 
     time_s: np.ndarray
     targets: np.ndarray
+    robot: str
+    joint_names: tuple[str, ...]
     period_s: float | None = None
     metadata: dict = field(default_factory=dict)
+
+    def __post_init__(self) -> None:
+        if self.targets.shape[1:] != (self.num_joints + 1,):
+            raise ValueError(f"targets of shape {self.targets.shape} for {self.num_joints} "
+                             f"{self.robot} joints + the ended flag")
 
     @property
     def n_samples(self) -> int:
         return len(self.time_s)
 
     @property
-    def joint_names(self) -> tuple[str, ...]:
-        return JOINT_NAMES
+    def num_joints(self) -> int:
+        return len(self.joint_names)
 
     @property
     def angles_rad(self) -> np.ndarray:
-        """(N, 22) joint targets [rad]."""
-        return self.targets[:, :NUM_JOINTS]
+        """(T, N) joint targets [rad]."""
+        return self.targets[:, :self.num_joints]
 
     @property
     def name(self) -> str:
         return str(self.metadata.get("motion") or "motion")
 
-    def with_angles(self, angles_rad: np.ndarray, **metadata) -> "Dataset":
+    def with_angles(self, angles_rad: np.ndarray, **metadata) -> Dataset:
         """The same dataset with other joint targets (e.g. compensated), metadata updated."""
         targets = self.targets.copy()
-        targets[:, :NUM_JOINTS] = angles_rad
+        targets[:, :self.num_joints] = angles_rad
         return replace(self, targets=targets, metadata={**self.metadata, **metadata})
 
 
@@ -76,40 +80,42 @@ def _where(metadata: dict) -> str:
     return str(metadata.get("source") or "joint table")
 
 
-def dataset_from_frame(frame: pl.DataFrame, *, period_s: float | None = None,
-                       metadata: dict | None = None) -> Dataset:
-    """Build a dataset from a joint table (see module docstring).
+def dataset_from_frame(frame: pl.DataFrame, *, robot: str | RobotDescription = DEFAULT_ROBOT,
+                       period_s: float | None = None, metadata: dict | None = None) -> Dataset:
+    """Build a dataset of ``robot`` from a joint table (see module docstring).
 
     Raises:
-        DatasetError: empty table, a single sample, missing/extra joint columns, NaN values,
-            non-increasing time, or a non-positive period.
+        DatasetError: empty table, a single sample, joint columns other than the robot's (or
+            in another order), NaN values, non-increasing time, or a non-positive period.
     """
+    robot = get_robot(robot)
+    names = robot.joint_names
     metadata = dict(metadata or {})
     where = _where(metadata)
     if TIME_COLUMN not in frame.columns:
         raise DatasetError(f"{where}: no {TIME_COLUMN!r} column; columns: {', '.join(frame.columns)}")
     joints = [c for c in frame.columns if c not in (TIME_COLUMN, ENDED_COLUMN)]
-    if tuple(joints) != JOINT_NAMES:
-        missing = [n for n in JOINT_NAMES if n not in joints]
-        extra = [n for n in joints if n not in JOINT_NAMES]
+    if tuple(joints) != names:
+        missing = [n for n in names if n not in joints]
+        extra = [n for n in joints if n not in names]
         detail = "; ".join(s for s in (f"missing {', '.join(missing)}" if missing else "",
                                        f"unexpected {', '.join(extra)}" if extra else "",
                                        "wrong order" if not (missing or extra) else "") if s)
-        raise DatasetError(f"{where}: expected the {NUM_JOINTS} joints in joint-table order, "
-                           f"got {len(joints)} joint columns ({detail})")
+        raise DatasetError(f"{where}: expected the {robot.num_joints} {robot.name} joints in "
+                           f"its order, got {len(joints)} joint columns ({detail})")
     if frame.height == 0:
         raise DatasetError(f"{where}: the joint table is empty; record or import a motion first")
     if frame.height == 1:
         raise DatasetError(f"{where}: a single sample cannot make a motion; need at least 2")
     t = frame[TIME_COLUMN].cast(pl.Float64).to_numpy().copy()
-    angles = frame.select(JOINT_NAMES).cast(pl.Float64).to_numpy().copy()
+    angles = frame.select(names).cast(pl.Float64).to_numpy().copy()
     ended = (frame[ENDED_COLUMN].cast(pl.Float64).fill_null(0.0).to_numpy()
              if ENDED_COLUMN in frame.columns else np.zeros(len(t)))
     bad = np.argwhere(~np.isfinite(angles))
     if len(bad) or not np.isfinite(t).all() or np.isnan(ended).any():
         if len(bad):
             row, col = bad[0]
-            what = f"{JOINT_NAMES[col]} at row {row}"
+            what = f"{names[col]} at row {row}"
         else:
             what = TIME_COLUMN if not np.isfinite(t).all() else ENDED_COLUMN
         raise DatasetError(f"{where}: NaN or infinite value ({what}); fix or re-record the motion")
@@ -128,11 +134,12 @@ def dataset_from_frame(frame: pl.DataFrame, *, period_s: float | None = None,
         flag = np.zeros(len(t))
     t = t - t[0]
     targets = np.concatenate([angles, flag[:, None]], axis=1)
-    return Dataset(t, targets, period_s, metadata)
+    return Dataset(t, targets, robot.name, names, period_s, metadata)
 
 
 def _read_table(path: Path, topic: str | None):
-    """(joint table, metadata dict, period) from an MCAP recording or a study text file."""
+    """(joint table, robot name, metadata dict, period) from an MCAP recording or a study
+    text file (NAO data)."""
     suffix = path.suffix.lower()
     if suffix == ".mcap":
         from mimic.recording.reader import read_joint_table, read_recording
@@ -142,7 +149,7 @@ def _read_table(path: Path, topic: str | None):
         frame = read_joint_table(rec, topic)
         info = rec.info
         meta = {"source": str(path), "topic": topic}
-        period = None
+        period, robot = None, rec.robot.name
         if info is not None:
             meta.update(motion=info.motion, team=info.team, agent=info.agent,
                         source_kind=info.source, recording_seed=info.seed,
@@ -153,13 +160,13 @@ def _read_table(path: Path, topic: str | None):
                 meta["start_posture"] = info.start_posture
             period = info.period_s
         meta.setdefault("motion", path.stem)
-        return frame, meta, period
+        return frame, robot, meta, period
     if suffix == ".txt":
-        from mimic.recording.paper_import import read_paper_table
+        from mimic.recording.paper_import import STUDY_ROBOT, read_paper_table
 
         frame = read_paper_table(path)
         meta = {"source": str(path), "topic": "paper", "motion": path.stem, "team": "paper"}
-        return frame, meta, None
+        return frame, STUDY_ROBOT, meta, None
     raise DatasetError(f"{path}: unknown input kind {suffix or '(no suffix)'!r}; "
                        "give a .mcap recording or a study .txt table")
 
@@ -169,7 +176,8 @@ def dataset_from_file(path: str | Path, topic: str | None = None, *,
     """Dataset from an MCAP recording (``topic``: None picks ``/joint_references`` when
     present, else ``/joint_states``) or a study ``::`` text file (``.txt``).
 
-    The period comes from the recording's metadata unless ``period_s`` is given.
+    The robot comes from the recording's metadata (study files: the NAO); the period too,
+    unless ``period_s`` is given.
 
     Raises:
         DatasetError: unreadable content for a dataset (see ``dataset_from_frame``);
@@ -179,10 +187,11 @@ def dataset_from_file(path: str | Path, topic: str | None = None, *,
     if not path.is_file():
         raise DatasetError(f"{path}: no such file")
     try:
-        frame, meta, period = _read_table(path, topic)
+        frame, robot, meta, period = _read_table(path, topic)
     except MimicError:
         raise
     except (OSError, ValueError) as err:
         raise DatasetError(f"{path}: cannot read ({err})") from None
-    return dataset_from_frame(frame, period_s=period_s if period_s is not None else period,
+    return dataset_from_frame(frame, robot=robot,
+                              period_s=period_s if period_s is not None else period,
                               metadata=meta)

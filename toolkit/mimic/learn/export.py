@@ -1,8 +1,8 @@
 """ONNX export of a motion model, built directly with ``onnx.helper``.
 
-Graph: input ``time_s`` (N, 1) float32 = seconds from the motion start; output ``outputs``
-(N, 23) float32 = 22 joint references [rad] in joint-table order + the ended flag. The input
-mapping is inside the graph:
+Graph: input ``time_s`` (T, 1) float32 = seconds from the motion start; output ``outputs``
+(T, N + 1) float32 = the robot's N joint references [rad] in its order + the ended flag (the
+width is the model's). The input mapping is inside the graph:
 
 * time models: x = (time_s - offset) * scale (Sub, Mul);
 * cyclic (phase) models: the input is still time [s]; the graph computes
@@ -10,8 +10,9 @@ mapping is inside the graph:
   so any time (also past the first period) gives the looping motion.
 
 Then MatMul/Add/LeakyRelu(0.3) x2, MatMul/Add, and the output de-standardisation (Mul, Add).
-``metadata_props`` hold ``joint_names`` (JSON list, output order), ``motion``, ``input_kind``,
-``period_s``, ``duration_s``, ``preset`` and ``toolkit_version``.
+``metadata_props`` hold ``robot`` (its registry name), ``num_joints``, ``joint_names`` (JSON
+list, output order), ``outputs``, ``motion``, ``input_kind``, ``period_s``, ``duration_s``,
+``preset`` and ``toolkit_version``.
 """
 
 from __future__ import annotations
@@ -67,15 +68,16 @@ def model_to_onnx(model: MotionModel):
               helper.make_node("Add", ["y_scaled", "output_mean"], ["outputs"])]
     graph = helper.make_graph(
         nodes, f"mimic_{model.name}",
-        [helper.make_tensor_value_info("time_s", TensorProto.FLOAT, ["N", 1])],
-        [helper.make_tensor_value_info("outputs", TensorProto.FLOAT, ["N", model.layout.out_dim])],
+        [helper.make_tensor_value_info("time_s", TensorProto.FLOAT, ["T", 1])],
+        [helper.make_tensor_value_info("outputs", TensorProto.FLOAT, ["T", model.layout.out_dim])],
         inits)
     proto = helper.make_model(graph, producer_name="mimic", producer_version=__version__,
                               opset_imports=[helper.make_opsetid("", OPSET)])
     proto.ir_version = min(proto.ir_version, 9)  # readable by older onnxruntime releases
-    meta = {"joint_names": json.dumps(list(model.joint_names)), "outputs":
+    meta = {"robot": model.robot, "num_joints": str(model.num_joints),
+            "joint_names": json.dumps(list(model.joint_names)), "outputs":
             json.dumps(list(model.joint_names) + ["ended"]), "motion": model.name,
-            "input": "time_s: seconds from the motion start (N, 1)",
+            "input": "time_s: seconds from the motion start (T, 1)",
             "input_kind": model.input_kind, "period_s": json.dumps(model.period_s),
             "duration_s": json.dumps(model.duration_s), "preset": model.preset,
             "toolkit_version": __version__}

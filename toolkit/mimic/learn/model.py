@@ -1,5 +1,5 @@
-"""A trained motion network with everything needed to query it: time (or phase) in, 22 joint
-references [rad] + the ended flag out."""
+"""A trained motion network with everything needed to query it: time (or phase) in, the robot's
+N joint references [rad] + the ended flag out."""
 
 from __future__ import annotations
 
@@ -9,7 +9,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from mimic.learn.network import LEAKY_SLOPE, Layout
-from mimic.robot.joints import JOINT_NAMES, NUM_JOINTS
+from mimic.robot.registry import DEFAULT_ROBOT, get_robot
 
 __all__ = ["MotionModel", "INPUT_TIME", "INPUT_PHASE"]
 
@@ -24,19 +24,20 @@ class MotionModel:
 
     Input mapping: ``time``: x = (t - input_offset_s) * input_scale_per_s (one input);
     ``phase``: x = (sin 2 pi t / period_s, cos 2 pi t / period_s). Output: y = net(x) *
-    output_std + output_mean; y[:22] are joint references [rad] in ``joint_names`` order, y[22]
-    the ended flag (> 0.5: the motion has ended).
+    output_std + output_mean; y[:N] are joint references [rad] in ``joint_names`` order (the
+    robot's), y[N] the ended flag (> 0.5: the motion has ended).
 
     Attributes:
-        layout: network shape.
+        layout: network shape (``layout.out_dim`` = N + 1).
         params: (P,) float32 parameters in ``Layout`` order.
         input_kind: ``time`` or ``phase``.
         input_offset_s, input_scale_per_s: the time input mapping (time models).
         period_s: period of a cyclic motion [s] (phase models), else None.
         duration_s: time of the last training sample [s].
-        output_mean, output_std: (23,) output de-standardisation.
+        output_mean, output_std: (N + 1,) output de-standardisation (None: 0 and 1).
         preset: name of the training preset.
-        joint_names: the joint order of the outputs.
+        robot: name of the robot the motion was learned on (``mimic.robot.registry``).
+        joint_names: (N,) the joint order of the outputs (empty: the registered robot's).
         metrics: training metrics (see ``mimic.learn.train.evaluate``).
         metadata: the source recording's metadata (motion, team, ball_offset_m, ...).
     """
@@ -48,14 +49,25 @@ class MotionModel:
     input_scale_per_s: float = 1.0
     period_s: float | None = None
     duration_s: float = 0.0
-    output_mean: np.ndarray = field(default_factory=lambda: np.zeros(NUM_JOINTS + 1))
-    output_std: np.ndarray = field(default_factory=lambda: np.ones(NUM_JOINTS + 1))
+    output_mean: np.ndarray | None = None
+    output_std: np.ndarray | None = None
     preset: str = "paper"
-    joint_names: tuple[str, ...] = JOINT_NAMES
+    robot: str = DEFAULT_ROBOT
+    joint_names: tuple[str, ...] = ()
     metrics: dict = field(default_factory=dict)
     metadata: dict = field(default_factory=dict)
 
     def __post_init__(self) -> None:
+        if not self.joint_names:
+            self.joint_names = get_robot(self.robot).joint_names
+        self.joint_names = tuple(self.joint_names)
+        if len(self.joint_names) + 1 != self.layout.out_dim:
+            raise ValueError(f"{len(self.joint_names)} {self.robot} joints + the ended flag "
+                             f"do not match a network with {self.layout.out_dim} outputs")
+        if self.output_mean is None:
+            self.output_mean = np.zeros(self.layout.out_dim)
+        if self.output_std is None:
+            self.output_std = np.ones(self.layout.out_dim)
         # float64 copies of the layers for queries: a 5123-parameter network costs a few
         # microseconds per call this way.
         self._layers = self.layout.layers(np.asarray(self.params, dtype=np.float64))
@@ -65,11 +77,16 @@ class MotionModel:
         return str(self.metadata.get("motion") or "motion")
 
     @property
+    def num_joints(self) -> int:
+        """N: joint outputs before the ended flag."""
+        return len(self.joint_names)
+
+    @property
     def cyclic(self) -> bool:
         return self.input_kind == INPUT_PHASE
 
     def network_inputs(self, time_s: np.ndarray) -> np.ndarray:
-        """(N, in_dim) network inputs for times (N,) [s]."""
+        """(T, in_dim) network inputs for times (T,) [s]."""
         t = np.asarray(time_s, dtype=np.float64).reshape(-1)
         if self.input_kind == INPUT_PHASE:
             angle = (2.0 * math.pi / self.period_s) * t
@@ -77,7 +94,7 @@ class MotionModel:
         return ((t - self.input_offset_s) * self.input_scale_per_s)[:, None]
 
     def raw(self, x: np.ndarray) -> np.ndarray:
-        """Network output (N, 23) for network inputs x (N, in_dim), before de-standardising."""
+        """Network output (T, N + 1) for network inputs x (T, in_dim), before de-standardising."""
         h = x
         last = len(self._layers) - 1
         for i, (w, b) in enumerate(self._layers):
@@ -87,7 +104,8 @@ class MotionModel:
         return h
 
     def predict(self, time_s) -> np.ndarray:
-        """(N, 23) outputs for times (N,) [s] (a scalar time gives (23,))."""
+        """(T, N + 1) outputs for times (T,) [s] (a scalar time gives (N + 1,)): joint
+        references [rad] in ``joint_names`` order, then the ended flag."""
         scalar = np.ndim(time_s) == 0
         y = self.raw(self.network_inputs(time_s)) * self.output_std + self.output_mean
         return y[0] if scalar else y

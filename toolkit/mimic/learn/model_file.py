@@ -1,10 +1,12 @@
 """The ``.mimic`` model file: a zip (numpy ``.npz``) holding the arrays and one JSON entry.
 
 Entries:
-  ``meta.json``   format tag and version, joint order, input kind and mapping, network shape,
-                  preset, training metrics, source recording metadata, toolkit version;
+  ``meta.json``   format tag and version, robot and its joint order, input kind and mapping,
+                  network shape, preset, training metrics, source recording metadata,
+                  toolkit version;
   ``params.npy``  (P,) float32 parameters in ``mimic.learn.network.Layout`` order;
-  ``output_mean.npy``, ``output_std.npy``  (23,) output de-standardisation.
+  ``output_mean.npy``, ``output_std.npy``  (N + 1,) output de-standardisation.
+Files written before robots were data have no ``robot``: they are our NAO's.
 A few kilobytes for the study's network; ``unzip -p model.mimic meta.json`` shows what it is.
 """
 
@@ -18,10 +20,10 @@ from pathlib import Path
 import numpy as np
 
 from mimic import __version__
-from mimic.errors import ModelFileError
+from mimic.errors import MimicError, ModelFileError
 from mimic.learn.model import MotionModel
 from mimic.learn.network import Layout
-from mimic.robot.joints import JOINT_NAMES
+from mimic.robot.registry import DEFAULT_ROBOT, get_robot
 
 __all__ = ["save_model", "load_model", "describe_model", "is_model_file", "FORMAT", "SUFFIX"]
 
@@ -46,6 +48,7 @@ def save_model(model: MotionModel, path: str | Path) -> Path:
         "format_version": FORMAT_VERSION,
         "toolkit_version": __version__,
         "motion": model.name,
+        "robot": model.robot,
         "joint_names": list(model.joint_names),
         "outputs": list(model.joint_names) + ["ended"],
         "input_kind": model.input_kind,
@@ -107,7 +110,8 @@ def load_model(path: str | Path) -> MotionModel:
     """Read a model file.
 
     Raises:
-        ModelFileError: missing file, not a model, a newer format, or a different joint layout.
+        ModelFileError: missing file, not a model, a newer format, an unknown robot, or joints
+            other than its robot's.
     """
     path = Path(path)
     z, meta = _read_meta(path)
@@ -115,12 +119,17 @@ def load_model(path: str | Path) -> MotionModel:
         if int(meta.get("format_version", 0)) > FORMAT_VERSION:
             raise ModelFileError(f"{path}: model format {meta['format_version']} is newer than "
                                  f"this toolkit reads ({FORMAT_VERSION}); update mimic")
+        try:
+            robot = get_robot(str(meta.get("robot", DEFAULT_ROBOT)))
+        except MimicError as err:
+            raise ModelFileError(f"{path}: {err}") from None
         names = tuple(meta.get("joint_names", ()))
-        if names != JOINT_NAMES:
+        if names != robot.joint_names:
             raise ModelFileError(
                 f"{path}: model made for a different joint layout ({len(names)} joints"
-                f"{', first ' + names[0] if names else ''}); this robot has {len(JOINT_NAMES)} "
-                f"joints starting {JOINT_NAMES[0]}: retrain it on a recording of this robot")
+                f"{', first ' + names[0] if names else ''}); the {robot.name} has "
+                f"{robot.num_joints} joints starting {robot.joint_names[0]}: retrain it on a "
+                f"recording of the {robot.name}")
         try:
             lay = meta["layout"]
             layout = Layout(in_dim=int(lay["in_dim"]), out_dim=int(lay["out_dim"]),
@@ -130,13 +139,17 @@ def load_model(path: str | Path) -> MotionModel:
             std = np.load(io.BytesIO(z.read("output_std.npy")), allow_pickle=False)
         except (KeyError, ValueError, TypeError) as err:
             raise ModelFileError(f"{path}: damaged model file ({err})") from None
-    if params.shape != (layout.n_params,) or layout.out_dim != len(JOINT_NAMES) + 1 \
+    if params.shape != (layout.n_params,) or layout.out_dim != len(names) + 1 \
             or mean.shape != (layout.out_dim,) or std.shape != (layout.out_dim,):
         raise ModelFileError(f"{path}: damaged model file (array shapes do not match its layout)")
-    return MotionModel(layout, params, meta["input_kind"], float(meta["input_offset_s"]),
-                       float(meta["input_scale_per_s"]), meta.get("period_s"),
-                       float(meta.get("duration_s", 0.0)), mean, std, meta.get("preset", "?"),
-                       names, meta.get("metrics", {}), meta.get("source", {}))
+    return MotionModel(layout, params, input_kind=meta["input_kind"],
+                       input_offset_s=float(meta["input_offset_s"]),
+                       input_scale_per_s=float(meta["input_scale_per_s"]),
+                       period_s=meta.get("period_s"),
+                       duration_s=float(meta.get("duration_s", 0.0)), output_mean=mean,
+                       output_std=std, preset=meta.get("preset", "?"), robot=robot.name,
+                       joint_names=names, metrics=meta.get("metrics", {}),
+                       metadata=meta.get("source", {}))
 
 
 def describe_model(path: str | Path) -> dict:
@@ -155,6 +168,8 @@ def describe_model(path: str | Path) -> dict:
         "path": str(path),
         "size_bytes": path.stat().st_size,
         "motion": model.name,
+        "robot": model.robot,
+        "num_joints": model.num_joints,
         "preset": model.preset,
         "input_kind": model.input_kind,
         "duration_s": model.duration_s,

@@ -1,9 +1,9 @@
 """The motion network and its hand-written, batched, full-batch Adam trainer (numpy).
 
 The network is the study's: input -> Dense 75 -> LeakyReLU(0.3) -> Dense 50 -> LeakyReLU(0.3)
--> Dense 23 (22 joint angles [rad] + the ended flag). With one input (time) it has
-1*75+75 + 75*50+50 + 50*23+23 = 5123 parameters; a cyclic motion's phase input (sin, cos) adds
-75 (5198).
+-> Dense N + 1 (the robot's N joint angles [rad] + the ended flag). With one input (time) it
+has 1*75+75 + 75*50+50 + 50*(N+1)+(N+1) parameters, 5123 for our NAO; a cyclic motion's phase
+input (sin, cos) adds 75.
 
 Why hand-written: a full-batch epoch on ~77 samples is ~3 small matrix products forward and
 ~4 backward; in torch each of the ~40 tiny kernels and the autograd bookkeeping costs more than
@@ -31,7 +31,7 @@ Arrays are float32 (as in Keras and torch by default).
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -55,12 +55,23 @@ class Layout:
     0..fan_in-1 are the weights (output = W @ input), the last column the bias.
     """
 
+    # Number of outputs: N joint angles + the ended flag (see ``for_joints``). Keyword-only
+    # and without a default: it comes from the robot, never from a constant.
+    out_dim: int = field(kw_only=True)
     # Number of network inputs (1: time; 2: sin and cos of the phase).
     in_dim: int = 1
-    # Number of outputs (22 joints + ended flag).
-    out_dim: int = 23
     # Hidden layer widths.
     hidden: tuple[int, ...] = HIDDEN_UNITS
+
+    @classmethod
+    def for_joints(cls, num_joints: int, in_dim: int = 1) -> Layout:
+        """The study's network for a robot with ``num_joints`` joints: N angles + the flag."""
+        return cls(out_dim=num_joints + 1, in_dim=in_dim)
+
+    @property
+    def num_joints(self) -> int:
+        """N: outputs before the ended flag."""
+        return self.out_dim - 1
 
     @property
     def widths(self) -> tuple[int, ...]:

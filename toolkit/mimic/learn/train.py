@@ -3,14 +3,15 @@
 Every dataset gets the same initial weights for a given seed (drawn from
 ``np.random.default_rng(seed)``), so a model does not depend on which other motions it was
 trained with; same seed and data -> identical weights. Models with the same input kind
-(time or phase) train together as one batch (``AdamTrainer`` with K stacked networks).
+(time or phase) and the same robot joints train together as one batch (``AdamTrainer`` with
+K stacked networks); the network's N + 1 outputs come from the dataset's joints.
 """
 
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass, field
-from typing import Callable, Sequence
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, replace
 
 import numpy as np
 from threadpoolctl import threadpool_limits
@@ -20,7 +21,6 @@ from mimic.learn.dataset import Dataset
 from mimic.learn.model import INPUT_PHASE, INPUT_TIME, MotionModel
 from mimic.learn.network import AdamTrainer, Layout, init_params
 from mimic.learn.presets import FAST, Preset
-from mimic.robot.joints import JOINT_NAMES, NUM_JOINTS
 
 __all__ = ["TrainConfig", "TrainProgress", "train_models", "train_model", "evaluate",
            "input_mapping", "training_dataset", "TARGET_REACHED", "TARGET_COMPENSATED"]
@@ -77,7 +77,8 @@ def input_mapping(dataset: Dataset, preset: Preset) -> dict:
 
 def _output_scaling(dataset: Dataset, preset: Preset) -> tuple[np.ndarray, np.ndarray]:
     if not preset.standardise_output:
-        return np.zeros(NUM_JOINTS + 1), np.ones(NUM_JOINTS + 1)
+        width = dataset.targets.shape[1]
+        return np.zeros(width), np.ones(width)
     mean = dataset.targets.mean(axis=0)
     std = np.maximum(dataset.targets.std(axis=0), preset.min_output_std)
     return mean, std
@@ -85,12 +86,20 @@ def _output_scaling(dataset: Dataset, preset: Preset) -> tuple[np.ndarray, np.nd
 
 def evaluate(model: MotionModel, dataset: Dataset) -> dict:
     """Fit metrics of ``model`` on ``dataset``: per-joint and mean absolute error [rad], largest
-    single error [rad], ended-flag accuracy (flag > 0.5 vs target, share of samples)."""
+    single error [rad], ended-flag accuracy (flag > 0.5 vs target, share of samples).
+
+    Raises:
+        ValueError: the model and the dataset have different joints.
+    """
+    if model.joint_names != dataset.joint_names:
+        raise ValueError(f"model of the {model.robot} ({model.num_joints} joints) evaluated on "
+                         f"a {dataset.robot} dataset ({dataset.num_joints} joints)")
+    n = model.num_joints
     y = model.predict(dataset.time_s)
-    err = np.abs(y[:, :NUM_JOINTS] - dataset.angles_rad)
-    flag_ok = (y[:, NUM_JOINTS] > 0.5) == (dataset.targets[:, NUM_JOINTS] > 0.5)
+    err = np.abs(y[:, :n] - dataset.angles_rad)
+    flag_ok = (y[:, n] > 0.5) == (dataset.targets[:, n] > 0.5)
     return {
-        "mae_rad_per_joint": {n: float(v) for n, v in zip(JOINT_NAMES, err.mean(axis=0))},
+        "mae_rad_per_joint": {j: float(v) for j, v in zip(model.joint_names, err.mean(axis=0))},
         "mae_rad": float(err.mean()),
         "max_error_rad": float(err.max()),
         "ended_accuracy": float(flag_ok.mean()),
@@ -100,12 +109,14 @@ def evaluate(model: MotionModel, dataset: Dataset) -> dict:
 
 def train_models(datasets: Sequence[Dataset], config: TrainConfig = TrainConfig(),
                  progress: Callable[[TrainProgress], None] | None = None) -> list[MotionModel]:
-    """Train one model per dataset (batched by input kind); returns them in input order."""
+    """Train one model per dataset (batched by input kind and joints); returns them in input
+    order."""
     models: list[MotionModel | None] = [None] * len(datasets)
-    groups: dict[int, list[int]] = {}
+    # Networks stack only with equal shapes: same input width and the same N + 1 outputs.
+    groups: dict[tuple[int, tuple[str, ...]], list[int]] = {}
     for i, d in enumerate(datasets):
-        groups.setdefault(1 if d.period_s is None else 2, []).append(i)
-    for in_dim, idx in groups.items():
+        groups.setdefault((1 if d.period_s is None else 2, d.joint_names), []).append(i)
+    for (in_dim, _), idx in groups.items():
         for i, m in zip(idx, _train_batch([datasets[i] for i in idx], in_dim, config, progress)):
             models[i] = m
     return models  # type: ignore[return-value]
@@ -120,33 +131,35 @@ def train_model(dataset: Dataset, config: TrainConfig = TrainConfig(),
 def _train_batch(datasets: list[Dataset], in_dim: int, config: TrainConfig,
                  progress) -> list[MotionModel]:
     preset = config.schedule()
-    layout = Layout(in_dim=in_dim)
+    n_joints = datasets[0].num_joints
+    layout = Layout.for_joints(n_joints, in_dim)
     k, n_max = len(datasets), max(d.n_samples for d in datasets)
     x = np.zeros((k, n_max, in_dim))
-    y = np.zeros((k, n_max, NUM_JOINTS + 1))
+    y = np.zeros((k, n_max, layout.out_dim))
     shells, scales = [], []
     for i, d in enumerate(datasets):
         mapping = input_mapping(d, preset)
         mean, std = _output_scaling(d, preset)
         shell = MotionModel(layout, np.zeros(layout.n_params, np.float32), **mapping,
                             duration_s=float(d.time_s[-1]), output_mean=mean, output_std=std,
-                            preset=preset.name, metadata=dict(d.metadata))
+                            preset=preset.name, robot=d.robot, joint_names=d.joint_names,
+                            metadata=dict(d.metadata))
         x[i, : d.n_samples] = shell.network_inputs(d.time_s)
         y[i, : d.n_samples] = (d.targets - mean) / std
         shells.append(shell)
-        scales.append(std[:NUM_JOINTS])
+        scales.append(std[:n_joints])
     params0 = init_params(layout, np.random.default_rng(config.seed), preset.init,
                           knot_range=preset.input_half_range)
     trainer = AdamTrainer(layout, np.repeat(params0[None], k, axis=0), x, y,
                           np.array([d.n_samples for d in datasets]), preset.betas, preset.eps)
-    std_j = np.stack(scales)[:, None, :]  # (K, 1, 22)
+    std_j = np.stack(scales)[:, None, :]  # (K, 1, N)
     names = tuple(d.name for d in datasets)
     total, done, start = preset.epochs, 0, time.perf_counter()
 
     def report(phase: int, lr: float, epochs_done: int) -> None:
         pred = trainer.predict()
-        err = np.abs(pred[..., :NUM_JOINTS] - y[..., :NUM_JOINTS]) * std_j * trainer.valid[..., None]
-        mae = err.sum(axis=(1, 2)) / (trainer.n_samples * NUM_JOINTS)
+        err = np.abs(pred[..., :n_joints] - y[..., :n_joints]) * std_j * trainer.valid[..., None]
+        mae = err.sum(axis=(1, 2)) / (trainer.n_samples * n_joints)
         progress(TrainProgress(names, phase, lr, epochs_done, total, trainer.mse(), mae,
                                time.perf_counter() - start))
 
@@ -161,10 +174,7 @@ def _train_batch(datasets: list[Dataset], in_dim: int, config: TrainConfig,
     wall_s = time.perf_counter() - start
     out = []
     for i, (shell, d) in enumerate(zip(shells, datasets)):
-        model = MotionModel(layout, trainer.params[i].copy(), shell.input_kind,
-                            shell.input_offset_s, shell.input_scale_per_s, shell.period_s,
-                            shell.duration_s, shell.output_mean, shell.output_std, preset.name,
-                            metadata=shell.metadata)
+        model = replace(shell, params=trainer.params[i].copy())
         model.metrics = {**evaluate(model, d), "epochs": total, "wall_s": wall_s,
                          "batch_size": k, "seed": config.seed, "toolkit_version": __version__}
         out.append(model)
@@ -181,20 +191,29 @@ def training_dataset(path, topic: str | None = None, target: str | None = None) 
 
     ``target``: ``reached`` (learn the recorded values), ``compensated`` (learn the references
     that reproduce the recorded angles through the tracking, see ``mimic.learn.compensate``) or
-    None: compensated when the data are observed angles (``/joint_states``), else reached.
+    None: compensated when the data are observed angles (``/joint_states``) of a robot with
+    speed servos (the only tracking compensation is defined for), else reached.
 
     Raises:
         DatasetError, RecordingError: unreadable input; unknown target kind.
+        MimicError: ``compensated`` asked for a robot without speed servos.
     """
     from mimic.errors import DatasetError
     from mimic.learn.compensate import compensate_references
-    from mimic.learn.dataset import STATES_TOPIC, dataset_from_file
+    from mimic.learn.dataset import dataset_from_file
+    from mimic.recording.layout import JOINT_STATES
+    from mimic.robot.actuators import SpeedServos
+    from mimic.robot.registry import get_robot
 
     if target not in (None, TARGET_REACHED, TARGET_COMPENSATED):
-        raise DatasetError(f"unknown target {target!r}; use {TARGET_REACHED} or {TARGET_COMPENSATED}")
+        raise DatasetError(f"unknown target {target!r}; use {TARGET_REACHED} or "
+                           f"{TARGET_COMPENSATED}")
     ds = dataset_from_file(path, topic)
     if target is None:
-        target = TARGET_COMPENSATED if ds.metadata.get("topic") == STATES_TOPIC else TARGET_REACHED
+        observed = ds.metadata.get("topic") == JOINT_STATES
+        servos = isinstance(get_robot(ds.robot).actuator, SpeedServos)
+        target = TARGET_COMPENSATED if observed and servos else TARGET_REACHED
     if target == TARGET_COMPENSATED:
-        return ds.with_angles(compensate_references(ds.time_s, ds.angles_rad), target=target)
-    return Dataset(ds.time_s, ds.targets, ds.period_s, {**ds.metadata, "target": target})
+        return ds.with_angles(compensate_references(ds.time_s, ds.angles_rad, ds.robot),
+                              target=target)
+    return replace(ds, metadata={**ds.metadata, "target": target})

@@ -12,7 +12,11 @@ A recording holds ROS 2 messages (CDR) so that Rerun and Foxglove open it as it 
 
 Times are integer nanoseconds from the start of the recording, both as MCAP log times and
 in the message headers. The metadata record ``mimic`` (written first) says what the recording
-is; ``mimic.end`` (written when the file is finished) says how it ended.
+is, including its robot: joint messages hold that robot's joints (N of them, its order);
+``mimic.end`` (written when the file is finished) says how it ended.
+
+Joint tables read from a recording (``mimic.recording.reader.read_joint_table``) have the
+columns ``TIME_COLUMN``, the robot's joint names in its order, and ``ENDED_COLUMN``.
 """
 
 from __future__ import annotations
@@ -20,12 +24,13 @@ from __future__ import annotations
 import json
 from dataclasses import asdict, dataclass, field
 
-from mimic.robot.joints import JOINT_NAMES
+from mimic.robot.registry import DEFAULT_ROBOT, get_robot
+from mimic.world.base import CYCLE_S
 
 __all__ = [
     "JOINT_STATES", "JOINT_REFERENCES", "ENDED", "TF", "ROBOT_DESCRIPTION", "JOINT_TOPICS",
-    "WORLD_FRAME", "BALL_FRAME", "METADATA_NAME", "END_METADATA_NAME", "ROBOT_MODEL",
-    "RecordingInfo", "SCHEMAS", "NS_PER_S",
+    "WORLD_FRAME", "BALL_FRAME", "METADATA_NAME", "END_METADATA_NAME", "TIME_COLUMN",
+    "ENDED_COLUMN", "RecordingInfo", "SCHEMAS", "NS_PER_S",
 ]
 
 JOINT_STATES = "/joint_states"
@@ -33,7 +38,7 @@ JOINT_REFERENCES = "/joint_references"
 ENDED = "/ended"
 TF = "/tf"
 ROBOT_DESCRIPTION = "/robot_description"
-#: Topics that hold 22 joint values per message.
+#: Topics that hold one value per joint of the recording's robot in each message.
 JOINT_TOPICS = (JOINT_STATES, JOINT_REFERENCES)
 
 #: TF root frame: the field frame (origin centre spot, x toward the opponent goal, z up).
@@ -42,9 +47,13 @@ BALL_FRAME = "ball"
 #: Name of the MCAP metadata record describing the recording / finishing it.
 METADATA_NAME = "mimic"
 END_METADATA_NAME = "mimic.end"
-#: Robot model written into the metadata (the simulator's NAO, robot type 0).
-ROBOT_MODEL = "nao_type0"
 NS_PER_S = 1_000_000_000
+
+#: Joint-table columns: seconds from the first sample, and the motion-ended flag (0/1).
+TIME_COLUMN = "time_s"
+ENDED_COLUMN = "ended"
+#: The metadata key older files name their robot with (``nao_type0``: our NAO).
+_LEGACY_ROBOT_KEY = "robot_model"
 
 
 @dataclass(frozen=True)
@@ -59,14 +68,14 @@ class RecordingInfo:
     team: str = "mimic"
     # ``reference`` when the file holds commanded references, ``observed`` when only reached angles.
     source: str = "observed"
-    # Agent control rate [Hz].
-    control_rate_hz: float = 50.0
     # Agent cycle [s].
-    cycle_s: float = 0.02
-    # Robot model the joint values belong to.
-    robot_model: str = ROBOT_MODEL
-    # Joint order of every JointState message.
-    joint_order: tuple[str, ...] = JOINT_NAMES
+    cycle_s: float = CYCLE_S
+    # The robot the joint values belong to (a ``mimic.robot.registry`` name).
+    robot: str = DEFAULT_ROBOT
+    # The world it moved in: ``nao`` (our MuJoCo world) or ``league`` (RCSSServerMJ).
+    world: str = "nao"
+    # Joint order of every JointState message (empty: the robot's own order).
+    joint_order: tuple[str, ...] = ()
     # Toolkit version that wrote the file.
     toolkit_version: str = ""
     # Seed of the simulation run.
@@ -80,9 +89,18 @@ class RecordingInfo:
     # Anything else worth keeping (text values).
     extra: dict[str, str] = field(default_factory=dict)
 
+    def __post_init__(self) -> None:
+        if not self.joint_order:  # frozen: set once, here
+            object.__setattr__(self, "joint_order", get_robot(self.robot).joint_names)
+
     @property
     def cyclic(self) -> bool:
         return self.period_s is not None
+
+    @property
+    def control_rate_hz(self) -> float:
+        """Agent control rate [Hz] (derived from the cycle, written for other readers)."""
+        return 1.0 / self.cycle_s
 
     def to_metadata(self) -> dict[str, str]:
         """The MCAP metadata map (string keys and values; lists and numbers as JSON)."""
@@ -90,11 +108,12 @@ class RecordingInfo:
         extra = d.pop("extra")
         out = {k: v if isinstance(v, str) else json.dumps(v) for k, v in d.items()}
         out["cyclic"] = json.dumps(self.cyclic)
+        out["control_rate_hz"] = json.dumps(self.control_rate_hz)
         out.update({f"extra.{k}": str(v) for k, v in extra.items()})
         return out
 
     @classmethod
-    def from_metadata(cls, data: dict[str, str]) -> "RecordingInfo":
+    def from_metadata(cls, data: dict[str, str]) -> RecordingInfo:
         """Inverse of ``to_metadata``; unknown keys go into ``extra``."""
         kwargs, extra = {}, {}
         for key, text in data.items():
@@ -102,6 +121,9 @@ class RecordingInfo:
                 extra[key.removeprefix("extra.")] = text
             elif key in cls.__dataclass_fields__:
                 kwargs[key] = text if key in _TEXT_FIELDS else json.loads(text)
+        if "robot" not in kwargs and _LEGACY_ROBOT_KEY in data:
+            # Older files: ``robot_model: nao_type0``; the registry knows the alias.
+            kwargs["robot"] = get_robot(data[_LEGACY_ROBOT_KEY]).name
         if "joint_order" in kwargs:
             kwargs["joint_order"] = tuple(kwargs["joint_order"])
         if kwargs.get("ball_offset_m") is not None:
@@ -109,7 +131,7 @@ class RecordingInfo:
         return cls(**kwargs, extra=extra)
 
 
-_TEXT_FIELDS = {"motion", "agent", "team", "source", "robot_model", "toolkit_version",
+_TEXT_FIELDS = {"motion", "agent", "team", "source", "robot", "world", "toolkit_version",
                 "start_posture"}
 
 _TIME = """MSG: builtin_interfaces/Time

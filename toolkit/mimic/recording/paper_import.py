@@ -2,7 +2,8 @@
 
 Format (see ``shared/paper-data/README.md``): fields separated by ``::``, one header row, one
 row per 20 ms cycle; an optional leading ``distance`` column (the kick family), ``timestep``
-[s], 22 joints [rad] in the study's order, and an optional ``hasEnded`` flag (0/1).
+[s], the NAO's joints [rad] in the study's order, and an optional ``hasEnded`` flag (0/1).
+The study's files are NAO data: everything here uses the NAO's description explicitly.
 
 Joint names: theirs -> ours (``PAPER_TO_CANONICAL``). Their "shoulder yaw" is our shoulder
 roll, their "arm roll" our elbow yaw, their "arm yaw" our elbow roll, "foot" is "ankle".
@@ -41,14 +42,15 @@ import polars as pl
 from mimic import __version__
 from mimic.errors import RecordingError
 from mimic.recording import layout as L
-from mimic.recording.reader import ENDED_COLUMN, TIME_COLUMN
+from mimic.recording.layout import ENDED_COLUMN, TIME_COLUMN
 from mimic.recording.writer import RecordingWriter
-from mimic.robot.joints import JOINT_NAMES
-from mimic.robot.urdf import robot_urdf
+from mimic.robot.registry import get_robot
 
-__all__ = ["PAPER_TO_CANONICAL", "PAPER_SIGNS", "read_paper_table", "import_paper_file",
-           "default_topic"]
+__all__ = ["PAPER_TO_CANONICAL", "PAPER_SIGNS", "STUDY_ROBOT", "read_paper_table",
+           "import_paper_file", "default_topic"]
 
+#: The robot of every study file (whatever the default robot of other commands is).
+STUDY_ROBOT = "nao"
 _SIDES = {"left": "left", "right": "right"}
 _PART = {  # their joint (without side) -> our joint (without side)
     "ShoulderPitch": "shoulder_pitch", "ShoulderYaw": "shoulder_roll",
@@ -65,7 +67,8 @@ PAPER_TO_CANONICAL: dict[str, str] = {
 _FLIP = {"head_pitch", "left_shoulder_pitch", "right_shoulder_pitch", "left_hip_yaw_pitch",
          *(f"{s}_{p}" for s in _SIDES for p in ("hip_pitch", "knee_pitch", "ankle_pitch"))}
 #: Our canonical joint name -> sign with ours = sign * theirs (evidence in the module doc).
-PAPER_SIGNS: dict[str, float] = {n: (-1.0 if n in _FLIP else 1.0) for n in JOINT_NAMES}
+PAPER_SIGNS: dict[str, float] = {n: (-1.0 if n in _FLIP else 1.0)
+                                  for n in get_robot(STUDY_ROBOT).joint_names}
 
 
 def default_topic(path: str | Path) -> str:
@@ -102,14 +105,15 @@ def _parse(path: Path) -> tuple[list[str], np.ndarray]:
 
 
 def read_paper_table(path: str | Path, *, distance_m: float | None = None) -> pl.DataFrame:
-    """A study file as a table in our layout (``time_s``, 22 joints in our order and signs
-    [rad], ``ended``). The kick family holds many kicks: pick one with ``distance_m``
+    """A study file as a table in our layout (``time_s``, the NAO's joints in its order and our
+    signs [rad], ``ended``). The kick family holds many kicks: pick one with ``distance_m``
     (the table then also has no ``distance`` column); without it the first kick is taken.
 
     Raises:
         RecordingError: unreadable file, unknown or missing joint columns.
     """
     path = Path(path)
+    names = get_robot(STUDY_ROBOT).joint_names
     header, data = _parse(path)
     if "timestep" not in header:
         raise RecordingError(f"{path}: no 'timestep' column; columns: {', '.join(header)}")
@@ -124,20 +128,20 @@ def read_paper_table(path: str | Path, *, distance_m: float | None = None) -> pl
     known = {h: PAPER_TO_CANONICAL[h] for h in header if h in PAPER_TO_CANONICAL}
     unknown = [h for h in header if h not in known and h not in ("timestep", "distance",
                                                                  "hasEnded")]
-    missing = [n for n in JOINT_NAMES if n not in known.values()]
+    missing = [n for n in names if n not in known.values()]
     if unknown or missing:
         raise RecordingError(f"{path}: unknown columns: {', '.join(unknown) or 'none'}; "
                              f"joints missing: {', '.join(missing) or 'none'}")
     column = {ours: header.index(theirs) for theirs, ours in known.items()}
     table = {TIME_COLUMN: data[:, header.index("timestep")]}
-    for name in JOINT_NAMES:
+    for name in names:
         table[name] = PAPER_SIGNS[name] * data[:, column[name]]
     ended = np.zeros(len(data))
     if "hasEnded" in header:
         ended = np.nan_to_num(data[:, header.index("hasEnded")], nan=0.0)
     ended[-1] = 1.0  # the last row ends the motion (the kick family leaves it blank)
     table[ENDED_COLUMN] = (ended > 0.5).astype(float)
-    bad = [n for n in JOINT_NAMES if np.isnan(table[n]).any()]
+    bad = [n for n in names if np.isnan(table[n]).any()]
     if bad:
         raise RecordingError(f"{path}: empty joint values in {', '.join(bad)}")
     return pl.DataFrame(table)
@@ -148,6 +152,7 @@ def import_paper_file(path: str | Path, out_path: str | Path, *, topic: str | No
     """Write a study file as a recording in our layout (joints on ``topic``, default by file:
     ``default_topic``), with ``/ended`` and the robot description. Returns its info."""
     path = Path(path)
+    robot = get_robot(STUDY_ROBOT)
     topic = topic or default_topic(path)
     if topic not in L.JOINT_TOPICS:
         raise RecordingError(f"topic must be one of {', '.join(L.JOINT_TOPICS)}, got {topic}")
@@ -155,15 +160,15 @@ def import_paper_file(path: str | Path, out_path: str | Path, *, topic: str | No
     times = table[TIME_COLUMN].to_numpy()
     if np.any(np.diff(times) < 0):
         raise RecordingError(f"{path}: time runs backwards")
-    values = table.select(JOINT_NAMES).to_numpy()
+    values = table.select(robot.joint_names).to_numpy()
     info = L.RecordingInfo(
-        motion=path.stem, agent=f"paper:{path.name}", team="other_team",
+        motion=path.stem, agent=f"paper:{path.name}", team="other_team", robot=robot.name,
         source="reference" if topic == L.JOINT_REFERENCES else "observed",
         toolkit_version=__version__,
         extra={"imported_from": path.name, "sign_convention": "mimic.recording.paper_import",
                **({"distance_m": f"{distance_m:g}"} if distance_m is not None else {})})
     t0 = times[0]
-    with RecordingWriter(out_path, info, urdf=robot_urdf()) as writer:
+    with RecordingWriter(out_path, info, urdf=robot.urdf()) as writer:
         for t, row, ended in zip(times, values, table[ENDED_COLUMN].to_numpy()):
             t_ns = int(round((t - t0) * L.NS_PER_S))
             writer.write_joints(t_ns, row, topic=topic)

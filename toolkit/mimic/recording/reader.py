@@ -2,7 +2,8 @@
 
 Files are scanned as a stream (never by seeking to the summary at the end), which makes a
 finished file and one cut off by a crash read the same way; ``RecoveryReport`` says what a
-damaged file lost. Joint tables come out as polars DataFrames in our joint order.
+damaged file lost. Joint tables come out as polars DataFrames in the recording's robot's joint
+order (``RecordingInfo.robot``; files without metadata hold our NAO).
 """
 
 from __future__ import annotations
@@ -18,16 +19,17 @@ from mcap.stream_reader import StreamReader
 from mcap_ros2.decoder import DecoderFactory
 
 from mimic.errors import RecordingError
+from mimic.geometry import quat_mul as _quat_mul
+from mimic.geometry import rotate as _rotate
 from mimic.recording import layout as L
-from mimic.geometry import quat_mul as _quat_mul, rotate as _rotate
-from mimic.robot.joints import JOINT_NAMES, SIM_NAMES, UnknownJointError, resolve_joint_names
+from mimic.recording.layout import ENDED_COLUMN, TIME_COLUMN
+from mimic.robot.model import RobotDescription, UnknownJointError
+from mimic.robot.registry import DEFAULT_ROBOT, get_robot
 
 __all__ = ["Recording", "TopicInfo", "RecoveryReport", "TfTrack", "read_recording",
            "read_joint_table", "read_tf", "world_poses", "describe_recording", "ENDED_COLUMN",
            "TIME_COLUMN"]
 
-TIME_COLUMN = "time_s"
-ENDED_COLUMN = "ended"
 _MAGIC = b"\x89MCAP0\r\n"
 
 
@@ -81,6 +83,11 @@ class Recording:
     recovery: RecoveryReport
     _messages: dict[str, list[tuple[int, bytes]]] = field(repr=False, default_factory=dict)
     _schemas: dict[str, Schema] = field(repr=False, default_factory=dict)
+
+    @property
+    def robot(self) -> RobotDescription:
+        """The robot whose joints the file holds (from its metadata; our NAO without it)."""
+        return get_robot(self.info.robot if self.info is not None else DEFAULT_ROBOT)
 
     @property
     def duration_s(self) -> float:
@@ -202,9 +209,10 @@ def read_joint_table(source: str | Path | Recording, topic: str | None = "/joint
                      ) -> pl.DataFrame:
     """The joint samples of ``topic`` as a table in our layout.
 
-    Columns: ``time_s`` (float, from the first sample), the 22 canonical joint names in
-    joint-table order [rad], ``ended`` (0/1 float). JointState messages may name joints
-    canonically or with the simulator's names (hj1..rlj6), in any order. ``ended`` comes from
+    Columns: ``time_s`` (float, from the first sample), the N joint names of the recording's
+    robot in its order [rad], ``ended`` (0/1 float). JointState messages may name joints by
+    the robot's names or their aliases (the NAO's simulator names hj1..rlj6), in any order.
+    ``ended`` comes from
     the ``/ended`` topic; files without it get ended = 1 on the last row (as in the study).
     ``topic=None`` picks references when present, else joint states.
 
@@ -213,6 +221,7 @@ def read_joint_table(source: str | Path | Recording, topic: str | None = "/joint
             NaN values, or time running backwards.
     """
     rec = _as_recording(source)
+    robot = rec.robot
     topic = topic or rec.joint_topic()
     if topic not in rec.topics:
         raise RecordingError(f"{rec.path}: no joint topic {topic}; topics present: "
@@ -222,9 +231,9 @@ def read_joint_table(source: str | Path | Recording, topic: str | None = "/joint
         if names != list(msg.name):
             names = list(msg.name)
             try:
-                perm = resolve_joint_names(names)
+                perm = robot.resolve_joint_names(names)
             except UnknownJointError as err:
-                unknown = [n for n in names if n not in JOINT_NAMES and n not in SIM_NAMES]
+                unknown = [n for n in names if not robot.has_joint(n)]
                 raise RecordingError(
                     f"{rec.path}: {topic} has wrong joint names ({err}); unknown names: "
                     f"{', '.join(unknown) or 'none'}") from None
@@ -234,11 +243,11 @@ def read_joint_table(source: str | Path | Recording, topic: str | None = "/joint
                                  f"{len(pos)} positions for {len(names)} joint names")
         times.append(time_ns)
         rows.append(pos[perm])
-    values = np.array(rows, dtype=float).reshape(-1, len(JOINT_NAMES))
+    values = np.array(rows, dtype=float).reshape(-1, robot.num_joints)
     t = np.array(times, dtype=np.int64)
     if np.isnan(values).any():
         row, col = np.argwhere(np.isnan(values))[0]
-        raise RecordingError(f"{rec.path}: {topic} holds NaN (first: {JOINT_NAMES[col]} at "
+        raise RecordingError(f"{rec.path}: {topic} holds NaN (first: {robot.joint_names[col]} at "
                              f"t = {(t[row] - t[0]) / 1e9:.3f} s)")
     back = np.nonzero(np.diff(t) < 0)[0]
     if len(back):
@@ -246,7 +255,7 @@ def read_joint_table(source: str | Path | Recording, topic: str | None = "/joint
                              f"t = {(t[back[0]] - t[0]) / 1e9:.3f} s")
     ended = _ended_flags(rec, t)
     table = {TIME_COLUMN: (t - (t[0] if len(t) else 0)) / L.NS_PER_S}
-    table.update({name: values[:, i] for i, name in enumerate(JOINT_NAMES)})
+    table.update({name: values[:, i] for i, name in enumerate(robot.joint_names)})
     table[ENDED_COLUMN] = ended
     return pl.DataFrame(table)
 
@@ -338,6 +347,8 @@ def describe_recording(path: str | Path) -> dict:
         "path": str(rec.path),
         "kind": "recording",
         "motion": info.motion if info else None,
+        "robot": info.robot if info else DEFAULT_ROBOT,
+        "world": info.world if info else None,
         "agent": info.agent if info else None,
         "team": info.team if info else None,
         "source": info.source if info else None,

@@ -6,20 +6,20 @@ file is flushed then, so a recording cut off by a crash or a kill loses at most 
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from pathlib import Path
-from typing import Sequence
 
 import numpy as np
 from mcap.well_known import MessageEncoding, SchemaEncoding
 from mcap.writer import CompressionType, Writer
 
-from mimic import __version__
-from mimic.errors import RecordingError
-from mimic.recording import cdr, layout as L
-from mimic.robot.joints import JOINT_NAMES
-
 # mcap-ros2-support's CDR encoder generator (the one its own Writer uses).
 from mcap_ros2._dynamic import serialize_dynamic
+
+from mimic import __version__
+from mimic.errors import RecordingError
+from mimic.recording import cdr
+from mimic.recording import layout as L
 
 __all__ = ["RecordingWriter"]
 
@@ -102,8 +102,13 @@ class RecordingWriter:
     def write_joints(self, time_ns: int, positions_rad: np.ndarray,
                      velocities_rad_s: np.ndarray | None = None, *,
                      topic: str = L.JOINT_STATES,
-                     names: Sequence[str] = JOINT_NAMES) -> None:
-        """A JointState on ``topic``: (22,) positions [rad], optional (22,) speeds [rad/s]."""
+                     names: Sequence[str] | None = None) -> None:
+        """A JointState on ``topic``: (N,) positions [rad], optional (N,) speeds [rad/s],
+        named ``names`` (default: the recording's ``info.joint_order``, its robot's order)."""
+        names = self.info.joint_order if names is None else names
+        if len(positions_rad) != len(names):  # another robot's vector: refuse, not corrupt
+            raise RecordingError(f"{topic}: {len(positions_rad)} positions for {len(names)} "
+                                 f"joints of the {self.info.robot}")
         self.write_cdr(topic, time_ns, cdr.encode_joint_state(time_ns, names, positions_rad,
                                                               velocities_rad_s),
                        "sensor_msgs/msg/JointState")
@@ -133,7 +138,7 @@ class RecordingWriter:
         finally:
             self._file.close()
 
-    def __enter__(self) -> "RecordingWriter":
+    def __enter__(self) -> RecordingWriter:
         return self
 
     def __exit__(self, exc_type, exc, tb) -> None:

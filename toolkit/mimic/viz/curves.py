@@ -1,4 +1,8 @@
-"""Joint-angle curves: one plot per group (head, arms, legs), series overlaid per joint."""
+"""Joint-angle curves: one plot per group (head, arms, legs), series overlaid per joint.
+
+Joint names come from the tables themselves (every column but time and the ended flag), so a
+table of any robot plots; the robot only says which group a joint belongs to.
+"""
 
 from __future__ import annotations
 
@@ -7,10 +11,13 @@ import polars as pl
 import rerun as rr
 import rerun.blueprint as rrb
 
-from mimic.robot.joints import JOINT_NAMES
+from mimic.recording.layout import ENDED_COLUMN, TIME_COLUMN
+from mimic.robot.model import RobotDescription
+from mimic.robot.registry import get_robot
 from mimic.viz.paths import GROUPS, JOINTS_ROOT, joint_path, time_column
 
-__all__ = ["log_joint_table", "SERIES_STYLE", "curves_blueprint"]
+__all__ = ["log_joint_table", "SERIES_STYLE", "curves_blueprint", "joint_columns",
+           "joint_error"]
 
 #: Colour and width of each series kind, so "reached" and "reference" read the same everywhere.
 SERIES_STYLE = {
@@ -22,12 +29,19 @@ SERIES_STYLE = {
 }
 
 
-def log_joint_table(rec: rr.RecordingStream, table: pl.DataFrame, series: str) -> None:
-    """Every joint of ``table`` (columns ``time_s`` + the 22 joint names) as one series [rad]."""
-    times = table["time_s"].to_numpy()
+def joint_columns(table: pl.DataFrame) -> list[str]:
+    """The joint columns of a joint table, in its order."""
+    return [c for c in table.columns if c not in (TIME_COLUMN, ENDED_COLUMN)]
+
+
+def log_joint_table(rec: rr.RecordingStream, table: pl.DataFrame, series: str,
+                    robot: str | RobotDescription) -> None:
+    """Every joint of ``table`` (``time_s`` + joint columns of ``robot``) as one series [rad]."""
+    robot = get_robot(robot)
+    times = table[TIME_COLUMN].to_numpy()
     colour, width = SERIES_STYLE.get(series, ((128, 128, 128), 1.0))
-    for i, name in enumerate(JOINT_NAMES):
-        path = joint_path(i, series)
+    for name in joint_columns(table):
+        path = joint_path(robot, name, series)
         rec.log(path, rr.SeriesLines(colors=[colour], widths=[width], names=[f"{name} {series}"]),
                 static=True)
         rec.send_columns(path, indexes=[time_column(times)],
@@ -41,8 +55,10 @@ def curves_blueprint() -> list[rrb.TimeSeriesView]:
 
 
 def joint_error(table_a: pl.DataFrame, table_b: pl.DataFrame) -> np.ndarray:
-    """(22,) mean absolute difference [rad] of two tables on the same times."""
-    a = table_a.select(JOINT_NAMES).to_numpy()
-    b = table_b.select(JOINT_NAMES).to_numpy()
+    """(N,) mean absolute difference [rad] of two tables on the same times, for the joint
+    columns of ``table_a`` (its order; ``table_b`` must have them too)."""
+    names = joint_columns(table_a)
+    a = table_a.select(names).to_numpy()
+    b = table_b.select(names).to_numpy()
     n = min(len(a), len(b))
     return np.abs(a[:n] - b[:n]).mean(axis=0)

@@ -4,28 +4,24 @@ from __future__ import annotations
 
 import numpy as np
 
-from mimic.robot.description import BODIES
+from mimic.geometry import rotate
+from mimic.robot.model import RobotDescription
+from mimic.viz.bodies import link_bodies
 
 __all__ = ["footsteps", "centre_of_mass_path"]
 
 
-def _rotate(quat_wxyz: np.ndarray, v: np.ndarray) -> np.ndarray:
-    """Rotate (3,) vector ``v`` by each of (N, 4) quaternions; returns (N, 3)."""
-    w, xyz = quat_wxyz[:, :1], quat_wxyz[:, 1:]
-    t = 2 * np.cross(xyz, np.broadcast_to(v, xyz.shape))
-    return v + w * t + np.cross(xyz, t)
-
-
-def centre_of_mass_path(poses: dict) -> np.ndarray:
-    """(N, 3) robot centre of mass [m] from world-frame body tracks (``TfTrack``-like: pos_m,
-    quat_wxyz) and the body masses and centres of the description."""
+def centre_of_mass_path(poses: dict, robot: str | RobotDescription) -> np.ndarray:
+    """(T, 3) centre of mass [m] of ``robot`` from world-frame link tracks (``TfTrack``-like:
+    pos_m (T, 3), quat_wxyz (T, 4)) and its link masses and centres (links without a track
+    are left out)."""
     total, weighted = 0.0, 0.0
-    for body in BODIES:
+    for body in link_bodies(robot):
         track = poses.get(body.name)
         if track is None:
             continue
-        centre = np.subtract(body.centre, body.anchor)
-        weighted = weighted + body.mass_kg * (track.pos_m + _rotate(track.quat_wxyz, centre))
+        centre = np.broadcast_to(body.com_m, track.pos_m.shape)
+        weighted = weighted + body.mass_kg * (track.pos_m + rotate(track.quat_wxyz, centre))
         total += body.mass_kg
     return weighted / total
 
@@ -34,7 +30,7 @@ def footsteps(track, *, max_height_m: float = 0.05, max_speed_m_s: float = 0.05,
               min_duration_s: float = 0.04) -> np.ndarray:
     """(K, 3) places where a foot stood: its frame low and nearly still for a while.
 
-    ``track`` is a world-frame ``TfTrack`` of a foot body (frame at the ankle-roll joint).
+    ``track`` is a world-frame ``TfTrack`` of a foot link (frame at its ankle joint).
     Returns the mean position (x, y, 0) of each stance.
     """
     t = track.times_ns * 1e-9

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import rerun as rr
 
-from mimic.robot.joints import JOINTS
+from mimic.robot.model import RobotDescription
 
 __all__ = ["TIMELINE", "WORLD", "ROBOT", "BALL", "JOINTS_ROOT", "GROUPS", "joint_group",
            "joint_path", "time_column"]
@@ -21,16 +21,17 @@ GROUPS = ("head", "arms", "legs")
 
 
 def joint_group(joint_group_name: str) -> str:
-    """Plot group of a joint-table group (``left_leg`` -> ``legs``)."""
+    """Plot group of a robot's joint group (``left_leg`` -> ``legs``; a waist plots with the
+    legs, the hips it turns)."""
     if joint_group_name == "head":
         return "head"
     return "arms" if joint_group_name.endswith("arm") else "legs"
 
 
-def joint_path(joint_index: int, series: str) -> str:
+def joint_path(robot: RobotDescription, joint_name: str, series: str) -> str:
     """Entity path of one joint's curve, e.g. ``joints/legs/left_knee_pitch/reached``."""
-    joint = JOINTS[joint_index]
-    return f"{JOINTS_ROOT}/{joint_group(joint.group)}/{joint.name}/{series}"
+    joint = robot.joints[robot.joint_index(joint_name)]
+    return f"{JOINTS_ROOT}/{joint_group(joint.group)}/{joint_name}/{series}"
 
 
 def time_column(times_s: np.ndarray) -> rr.TimeColumn:

@@ -1,6 +1,7 @@
 """The richer view of a recording: robot, ball and field in 3D; joint curves grouped (head,
 arms, legs) with references and reached angles overlaid; footsteps and centre-of-mass path for
-walks; a learned model's output overlaid when given."""
+walks; a learned model's output overlaid when given. Everything follows the recording's robot
+(``Recording.robot``): its joints, its link shapes, its masses and feet."""
 
 from __future__ import annotations
 
@@ -11,13 +12,15 @@ import polars as pl
 import rerun as rr
 import rerun.blueprint as rrb
 
+from mimic.errors import MimicError
 from mimic.learn.compensate import compensate_references
-from mimic.recording.layout import BALL_FRAME, JOINT_REFERENCES, JOINT_STATES
+from mimic.recording.layout import BALL_FRAME, JOINT_REFERENCES, JOINT_STATES, TIME_COLUMN
 from mimic.recording.reader import read_joint_table, read_recording, read_tf
-from mimic.robot.joints import JOINT_NAMES
-from mimic.viz.curves import curves_blueprint, log_joint_table
+from mimic.robot.actuators import SpeedServos
+from mimic.robot.model import RobotDescription
+from mimic.viz.curves import curves_blueprint, joint_columns, log_joint_table
 from mimic.viz.gait import centre_of_mass_path, footsteps
-from mimic.viz.paths import ROBOT, WORLD, time_column
+from mimic.viz.paths import WORLD, time_column
 from mimic.viz.scene import log_ball_poses, log_body_poses, log_field, log_robot_geometry
 
 __all__ = ["log_recording", "recording_blueprint", "view_recording"]
@@ -30,32 +33,46 @@ def log_recording(rec: rr.RecordingStream, path: str | Path, *, model: str | Pat
     With a model, three more series sit beside the recorded ones: ``learned`` (the network's
     output on the recording's times), ``compensated`` (the references computed from the
     observed angles, what a compensated model learns) and ``replayed`` (the angles reached when
-    the network is played in the simulator, as ``mimic record --model`` would).
+    the network is played in the simulator, as ``mimic record --model`` would). Compensation
+    is defined for speed servos only: robots with PD motors get no ``compensated`` series.
 
-    Returns a short description of what was logged (series names, counts).
+    Returns a short description of what was logged (robot, series names, counts).
+
+    Raises:
+        MimicError: the model was learned on another robot than the recording's.
     """
     recording = read_recording(path)
-    logged = {"series": []}
+    robot = recording.robot
+    logged = {"robot": robot.name, "series": []}
     if JOINT_STATES in recording.topics:
-        log_joint_table(rec, read_joint_table(recording, JOINT_STATES), "reached")
+        log_joint_table(rec, read_joint_table(recording, JOINT_STATES), "reached", robot)
         logged["series"].append("reached")
     if JOINT_REFERENCES in recording.topics:
-        log_joint_table(rec, read_joint_table(recording, JOINT_REFERENCES), "reference")
+        log_joint_table(rec, read_joint_table(recording, JOINT_REFERENCES), "reference", robot)
         logged["series"].append("reference")
     if model is not None:
         from mimic.learn.model_file import load_model
         loaded = load_model(model)
+        if loaded.robot != robot.name:
+            raise MimicError(f"{model}: a model of the {loaded.robot}; {path} is a recording "
+                             f"of the {robot.name}")
         observed = read_joint_table(recording, recording.joint_topic())
-        times = observed["time_s"].to_numpy()
-        log_joint_table(rec, _joint_frame(times, loaded.predict(times)), "learned")
-        log_joint_table(rec, _joint_frame(times, compensate_references(
-            times, observed.select(JOINT_NAMES).to_numpy())), "compensated")
-        log_joint_table(rec, _replayed_table(loaded, recording), "replayed")
-        logged["series"] += ["learned", "compensated", "replayed"]
+        times = observed[TIME_COLUMN].to_numpy()
+        names = loaded.joint_names
+        log_joint_table(rec, _joint_frame(times, loaded.predict(times), names), "learned",
+                        robot)
+        logged["series"].append("learned")
+        if isinstance(robot.actuator, SpeedServos):
+            angles = observed.select(joint_columns(observed)).to_numpy()
+            log_joint_table(rec, _joint_frame(times, compensate_references(
+                times, angles, robot), names), "compensated", robot)
+            logged["series"].append("compensated")
+        log_joint_table(rec, _replayed_table(loaded, recording), "replayed", robot)
+        logged["series"].append("replayed")
     tracks = read_tf(recording, in_world=True)
     if tracks:
         log_field(rec)
-        log_robot_geometry(rec)
+        log_robot_geometry(rec, robot)
         first = next(iter(tracks.values())).times_ns[0]
         for name, track in tracks.items():
             times = (track.times_ns - first) * 1e-9
@@ -65,22 +82,24 @@ def log_recording(rec: rr.RecordingStream, path: str | Path, *, model: str | Pat
                 log_body_poses(rec, times, {name: (track.pos_m, track.quat_wxyz)})
         logged["frames"] = len(tracks)
         if recording.info is not None and recording.info.cyclic:
-            _log_gait(rec, tracks, first)
+            _log_gait(rec, tracks, first, robot)
             logged["gait"] = True
     return logged
 
 
-def _log_gait(rec: rr.RecordingStream, tracks: dict, first_ns: int) -> None:
-    torso = tracks.get("torso")
+def _log_gait(rec: rr.RecordingStream, tracks: dict, first_ns: int,
+              robot: RobotDescription) -> None:
+    torso = tracks.get(robot.root_link)
     if torso is None:
         return
-    com = centre_of_mass_path(tracks)
+    com = centre_of_mass_path(tracks, robot)
     ground = np.c_[com[:, :2], np.zeros(len(com))]
     rec.log(f"{WORLD}/com_path", rr.LineStrips3D([ground], colors=(240, 60, 60)), static=True)
     rec.send_columns(f"{WORLD}/com", indexes=[time_column((torso.times_ns - first_ns) * 1e-9)],
                      columns=rr.Points3D.columns(positions=ground).partition([1] * len(ground)))
-    for side, colour in (("left", (60, 120, 240)), ("right", (240, 180, 40))):
-        foot = tracks.get(f"{side}_foot")
+    for side, foot_link, colour in (("left", robot.foot_links[0], (60, 120, 240)),
+                                    ("right", robot.foot_links[1], (240, 180, 40))):
+        foot = tracks.get(foot_link)
         if foot is not None:
             steps = footsteps(foot)
             rec.log(f"{WORLD}/footsteps/{side}",
@@ -89,16 +108,18 @@ def _log_gait(rec: rr.RecordingStream, tracks: dict, first_ns: int) -> None:
                     static=True)
 
 
-def _joint_frame(times_s: np.ndarray, angles_rad: np.ndarray) -> pl.DataFrame:
-    """A joint table (time_s + the 22 joints) from (N,) times and (N, >= 22) angles."""
-    return pl.DataFrame({"time_s": times_s, **{n: angles_rad[:, i] for i, n in
-                                               enumerate(JOINT_NAMES)}})
+def _joint_frame(times_s: np.ndarray, angles_rad: np.ndarray, names) -> pl.DataFrame:
+    """A joint table (time_s + the N joints ``names``) from (T,) times and (T, >= N) angles
+    [rad] (a network's extra ended column is left out)."""
+    return pl.DataFrame({TIME_COLUMN: times_s,
+                         **{n: angles_rad[:, i] for i, n in enumerate(names)}})
 
 
 def _replayed_table(model, recording) -> pl.DataFrame:
     """Reached angles of the network played in a fresh simulation for the recording's length
     (through the recorder, so the robot starts and the ball lies as ``mimic record`` has them)."""
     import tempfile
+
     from mimic.agents.neural_player import NeuralPlayer
     from mimic.recording.recorder import RecordConfig, record
     with tempfile.TemporaryDirectory() as tmp:

@@ -1,11 +1,14 @@
-"""The robot, field, goals and ball in Rerun's 3D view."""
+"""The robot (any robot: its link shapes from ``mimic.viz.bodies``), field, goals and ball in
+Rerun's 3D view."""
 
 from __future__ import annotations
 
+import mujoco
 import numpy as np
 import rerun as rr
 
-from mimic.robot.description import BODIES
+from mimic.robot.model import RobotDescription
+from mimic.viz.bodies import Shape, link_bodies
 from mimic.viz.paths import BALL, ROBOT, WORLD, time_column
 from mimic.world import field as F
 
@@ -45,35 +48,50 @@ def log_ball_shape(rec: rr.RecordingStream, path: str = BALL) -> None:
             static=True)
 
 
-def log_robot_geometry(rec: rr.RecordingStream, root: str = ROBOT) -> None:
-    """Static primitive shapes of every body, each in its own body frame (at the joint anchor)."""
-    for body in BODIES:
-        offset = np.subtract(body.centre, body.anchor)
-        path = f"{root}/{body.name}/shape"
-        if body.shape == "box":
-            shape = rr.Boxes3D(centers=[offset], half_sizes=[np.divide(body.size, 2)],
-                               colors=_ROBOT_COLOUR, fill_mode="solid")
-        elif body.shape == "sphere":
-            shape = rr.Ellipsoids3D(centers=[offset], half_sizes=[[body.size[0]] * 3],
-                                    colors=_ROBOT_COLOUR if body.collides else _JOINT_COLOUR,
-                                    fill_mode="solid")
-        else:
-            radius, length = body.size
-            shape = rr.Capsules3D(lengths=[length], radii=[radius],
-                                  translations=[offset - (0, 0, length / 2)],
-                                  colors=_ROBOT_COLOUR)
-        rec.log(path, shape, static=True)
+def log_robot_geometry(rec: rr.RecordingStream, robot: str | RobotDescription,
+                       root: str = ROBOT) -> None:
+    """Static shapes of every link of ``robot``, each in its own link frame
+    (``{root}/{link}/shape``, further shapes of one link ``shape_1``, ``shape_2``...)."""
+    for body in link_bodies(robot):
+        for k, shape in enumerate(body.shapes):
+            rec.log(f"{root}/{body.name}/shape" + (f"_{k}" if k else ""), _archetype(shape),
+                    static=True)
+
+
+def _archetype(shape: Shape):
+    """The Rerun archetype drawing one link shape (in its link frame)."""
+    colour = _ROBOT_COLOUR if shape.collides or shape.kind == "mesh" else _JOINT_COLOUR
+    w, x, y, z = shape.quat_wxyz
+    quat = [rr.Quaternion(xyzw=[x, y, z, w])]
+    size = shape.size_m
+    if shape.kind == "mesh":
+        return rr.Mesh3D(vertex_positions=shape.vertices_m, triangle_indices=shape.faces,
+                         albedo_factor=colour)
+    if shape.kind == "box":
+        return rr.Boxes3D(centers=[shape.pos_m], half_sizes=[size], quaternions=quat,
+                          colors=colour, fill_mode="solid")
+    if shape.kind in ("sphere", "ellipsoid"):
+        half = [size[0]] * 3 if shape.kind == "sphere" else size
+        return rr.Ellipsoids3D(centers=[shape.pos_m], half_sizes=[half], quaternions=quat,
+                               colors=colour, fill_mode="solid")
+    radius, half_length = size[0], size[1]
+    if shape.kind == "cylinder":
+        return rr.Cylinders3D(lengths=[2 * half_length], radii=[radius], centers=[shape.pos_m],
+                              quaternions=quat, colors=colour, fill_mode="solid")
+    # A Rerun capsule starts at its translation and runs along its +z; MuJoCo's is centred.
+    rot = np.zeros(9)
+    mujoco.mju_quat2Mat(rot, shape.quat_wxyz)
+    base = shape.pos_m - rot.reshape(3, 3)[:, 2] * half_length
+    return rr.Capsules3D(lengths=[2 * half_length], radii=[radius], translations=[base],
+                         quaternions=quat, colors=colour)
 
 
 def log_body_poses(rec: rr.RecordingStream, times_s: np.ndarray,
                    poses: dict[str, tuple[np.ndarray, np.ndarray]], root: str = ROBOT) -> None:
-    """Body poses over time; ``poses[body] = (positions (N, 3) [m], quats_wxyz (N, 4))`` in the
-    world frame, sampled at ``times_s`` (N,)."""
-    for body in BODIES:
-        if body.name not in poses:
-            continue
-        pos, quat_wxyz = poses[body.name]
-        rec.send_columns(f"{root}/{body.name}", indexes=[time_column(times_s)],
+    """Link poses over time; ``poses[link] = (positions (T, 3) [m], quats_wxyz (T, 4))`` in the
+    world frame, sampled at ``times_s`` (T,)."""
+    for name, (pos, quat_wxyz) in poses.items():
+        rec.send_columns(f"{root}/{name}", indexes=[time_column(times_s)],
                          columns=rr.Transform3D.columns(
                              translation=pos, quaternion=np.asarray(quat_wxyz)[:, [1, 2, 3, 0]]))
 

@@ -11,9 +11,15 @@ import polars as pl
 import rerun as rr
 import rerun.blueprint as rrb
 
+from mimic.robot.registry import DEFAULT_ROBOT
 from mimic.viz.paths import WORLD
-from mimic.viz.scene import log_ball_poses, log_ball_shape, log_body_poses, log_field, \
-    log_robot_geometry
+from mimic.viz.scene import (
+    log_ball_poses,
+    log_ball_shape,
+    log_body_poses,
+    log_field,
+    log_robot_geometry,
+)
 
 __all__ = ["log_trial", "trial_blueprint", "save_trial_dashboard", "show_trial_dashboard"]
 
@@ -55,9 +61,10 @@ def _log_walks(rec: rr.RecordingStream, name: str, runs: pl.DataFrame) -> None:
 
 
 def _log_replay(rec: rr.RecordingStream, name: str, trace) -> None:
-    """One traced episode (``trials.trace.EpisodeTrace``) on the ``sim_time`` timeline."""
+    """One traced episode (``episode.observers.EpisodeTrace``) on the ``sim_time`` timeline,
+    drawn as the trace's robot (traces without one are of the default robot)."""
     root = f"{_REPLAY}/{name}"
-    log_robot_geometry(rec, f"{root}/robot")
+    log_robot_geometry(rec, getattr(trace, "robot", DEFAULT_ROBOT), f"{root}/robot")
     log_body_poses(rec, trace.times_s, trace.poses(), f"{root}/robot")
     log_ball_shape(rec, f"{root}/ball")
     log_ball_poses(rec, trace.times_s, trace.ball_pos_m, f"{root}/ball")
