@@ -2,12 +2,11 @@
 
 import numpy as np
 import pytest
+from _learn_helpers import PAPER_DATA, smooth_motion
 from typer.testing import CliRunner
 
 from mimic.cli.main import app
 from mimic.learn.model_file import load_model
-
-from _learn_helpers import PAPER_DATA, joint_frame, smooth_motion
 
 runner = CliRunner()
 

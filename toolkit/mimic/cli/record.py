@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import json
 from pathlib import Path
-from typing import Annotated, Optional
+from typing import Annotated
 
 import typer
 from rich.progress import BarColumn, Progress, TextColumn
@@ -19,7 +19,8 @@ def print_recording_summary(summary: dict) -> None:
     """Print ``describe_recording``'s dict as a table (also used by other info commands)."""
     table = Table(title=summary["path"], show_header=False, title_justify="left")
     cyclic = summary.get("cyclic")
-    rows = [("motion", summary.get("motion")), ("agent", summary.get("agent")),
+    rows = [("motion", summary.get("motion")), ("robot", summary.get("robot")),
+            ("agent", summary.get("agent")),
             ("team", summary.get("team")), ("source", summary.get("source")),
             ("cyclic", f"yes, period {summary['period_s']:g} s" if cyclic else "no"),
             ("duration", f"{summary['duration_s']:.2f} s"),
@@ -63,21 +64,21 @@ def register(app: typer.Typer) -> None:
     @app.command()
     @reports_errors
     def record(
-        name: Annotated[Optional[str], typer.Argument(
+        name: Annotated[str | None, typer.Argument(
             help="Agent: a shipped motion (stand, kick_right, ...), walk, other-team-walk, "
                  "other-team-kick, or a model FILE.mimic (FILE.mimic+balance: inside the "
                  "balance layer).")] = None,
         out: Annotated[Path, typer.Option("-o", "--out", help="Output .mcap file.")] = None,
-        duration: Annotated[Optional[float], typer.Option(
+        duration: Annotated[float | None, typer.Option(
             "--duration", help="Seconds to record (default: until the motion ends; cyclic "
                                "agents: 10 periods).")] = None,
         seed: Annotated[int, typer.Option(help="Simulation seed.")] = 0,
         observe_only: Annotated[bool, typer.Option(
             "--observe-only", help="Record only reached joint angles, no references.")] = False,
-        warmup: Annotated[Optional[float], typer.Option(
+        warmup: Annotated[float | None, typer.Option(
             help="Cyclic agents: seconds run before recording (default 4: past the start-up).",
             show_default=False)] = None,
-        model: Annotated[Optional[Path], typer.Option(
+        model: Annotated[Path | None, typer.Option(
             help="Record a learned motion from a .mimic model file instead of NAME.")] = None,
         robot: Annotated[str, typer.Option(help="Robot of shipped motions (mimic robots).")]
         = "nao",
@@ -139,9 +140,9 @@ def register(app: typer.Typer) -> None:
     def import_(
         paper_file: Annotated[Path, typer.Argument(help="A study '::' text file.")],
         out: Annotated[Path, typer.Option("-o", "--out", help="Output .mcap file.")],
-        topic: Annotated[Optional[str], typer.Option(
+        topic: Annotated[str | None, typer.Option(
             help="/joint_references or /joint_states (default: by file name).")] = None,
-        distance: Annotated[Optional[float], typer.Option(
+        distance: Annotated[float | None, typer.Option(
             help="Kick family: which distance [m] to import.")] = None,
     ) -> None:
         """Convert one of the study's joint tables into a recording in our layout."""

@@ -2,8 +2,15 @@
 the import of the study's text files. See ``mimic.recording.layout`` for the topics."""
 
 from mimic.recording.layout import RecordingInfo
-from mimic.recording.reader import (Recording, RecoveryReport, TfTrack, describe_recording,
-                                    read_joint_table, read_recording, read_tf)
+from mimic.recording.reader import (
+                                    Recording,
+                                    RecoveryReport,
+                                    TfTrack,
+                                    describe_recording,
+                                    read_joint_table,
+                                    read_recording,
+                                    read_tf,
+)
 from mimic.recording.writer import RecordingWriter
 
 __all__ = ["RecordingInfo", "RecordingWriter", "Recording", "RecoveryReport", "TfTrack",

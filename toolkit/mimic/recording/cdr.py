@@ -8,8 +8,8 @@ bytes (checked against it in tests) with a handful of ``struct`` calls per messa
 from __future__ import annotations
 
 import struct
+from collections.abc import Sequence
 from functools import lru_cache
-from typing import Sequence
 
 import numpy as np
 

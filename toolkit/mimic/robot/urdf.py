@@ -12,9 +12,9 @@ from __future__ import annotations
 
 import math
 
+from mimic.robot.actuators import SpeedServos
 from mimic.robot.description import BODIES, Body
 from mimic.robot.joints import JOINTS
-from mimic.robot.actuators import SpeedServos
 
 __all__ = ["robot_urdf", "ROBOT_NAME", "shape_inertia"]
 
@@ -91,7 +91,7 @@ def _joint(body: Body, actuator: SpeedServos) -> str:
 
 def robot_urdf(actuator: SpeedServos = SpeedServos()) -> str:
     """The robot as URDF text: 23 links (root ``torso``) and 22 revolute joints."""
-    parts = [f'<?xml version="1.0"?>', f'<robot name="{ROBOT_NAME}">',
+    parts = ['<?xml version="1.0"?>', f'<robot name="{ROBOT_NAME}">',
              '  <material name="grey"><color rgba="0.75 0.75 0.8 1"/></material>']
     parts += [_link(b) for b in BODIES]
     parts += [_joint(b, actuator) for b in BODIES if b.joint is not None]
