@@ -92,7 +92,10 @@ class Scene:
             robot's left, out of the way.
         ball_after_settle: place the ball (at its offset) only after settling, relative to
             the settled torso (a kick's feet move a little while the robot settles).
-        settle_s: time the robot holds its start pose before the agent starts [s].
+        settle_s: time the robot settles before the agent starts [s].
+        settle_into_stand: while settling, move into the robot's stand pose (undoing the
+            joint noise, as a robot does before it starts to walk); False holds the start
+            pose as placed.
     """
 
     robot_xy_m: tuple[float, float] = (0.0, 0.0)
@@ -104,6 +107,7 @@ class Scene:
     ball_xy_m: tuple[float, float] | None = None
     ball_after_settle: bool = False
     settle_s: float = 0.5
+    settle_into_stand: bool = False
 
     def __post_init__(self) -> None:
         if self.posture not in POSTURES:
@@ -135,7 +139,8 @@ class Scene:
             ball = np.array([x, y + BALL_ASIDE_M])
         world.place_ball(*ball)
         if self.settle_s > 0:
-            run(world, HoldPose(pose, robot.name), max_s=self.settle_s, stop_when_done=False,
+            hold = robot.stand_pose() if self.settle_into_stand else pose
+            run(world, HoldPose(hold, robot.name), max_s=self.settle_s, stop_when_done=False,
                 observers=observers)
         if self.ball_offset_m is not None and self.ball_after_settle:
             torso = world.torso_pos_m()

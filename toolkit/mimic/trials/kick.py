@@ -64,7 +64,7 @@ def kick_scene(offset_m, config: KickTrialConfig) -> Scene:
     """Robot behind the centre spot facing the opponent goal, settled in its stand; then the
     ball at the kick's offset from the settled torso (the feet move a little while settling)."""
     return Scene(robot_xy_m=(-offset_m[0], -offset_m[1]), ball_offset_m=tuple(offset_m),
-                 ball_after_settle=True, settle_s=0.5,
+                 ball_after_settle=True, settle_s=0.5, settle_into_stand=True,
                  noise=PoseNoise(position_m=config.start_noise_pos_m,
                                  yaw_rad=config.start_noise_yaw_rad,
                                  joint_rad=config.start_noise_joint_rad))

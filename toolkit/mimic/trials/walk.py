@@ -34,7 +34,7 @@ class WalkTrialConfig:
 
 def walk_scene(config: WalkTrialConfig) -> Scene:
     """Standing on the start line facing the opponent goal, the ball out of the way."""
-    return Scene(robot_xy_m=(config.start_x_m, 0.0), settle_s=0.5,
+    return Scene(robot_xy_m=(config.start_x_m, 0.0), settle_s=0.5, settle_into_stand=True,
                  noise=PoseNoise(position_m=config.start_noise_pos_m,
                                  yaw_rad=config.start_noise_yaw_rad,
                                  joint_rad=config.start_noise_joint_rad))
