@@ -17,7 +17,7 @@ from rich.console import Console
 from rich.table import Table
 
 from mimic.agents.other_team import make_kick, make_walk
-from mimic.checks.walking import kick_trial, walk_trial
+from mimic.checks.walking import kick_from_stand, straight_walk
 from mimic.world.base import CYCLE_S
 from mimic.world.mujoco_world import MujocoWorld
 
@@ -31,7 +31,7 @@ def main() -> None:
     walk = make_walk()
     console.print(f"walk period {walk.period_s:.3f} s, step {walk.period_s / 2:.3f} s "
                   f"({round(walk.period_s / 2 / CYCLE_S)} cycles)")
-    runs = [walk_trial(make_walk, 15.0, seed=s, speed_noise_rad_s=0.05 if s else 0.0,
+    runs = [straight_walk(make_walk, 15.0, seed=s, speed_noise_rad_s=0.05 if s else 0.0,
                        world=world) for s in range(args.walk_runs)]
     period = round(walk.period_s / CYCLE_S)
     t = Table(title="other team walk, 15 m")
@@ -48,7 +48,7 @@ def main() -> None:
               f"{np.mean([r.distance_m for r in runs]):.2f}", f"{sp.mean():.3f} ± {sp.std():.3f}",
               f"{max(r.max_drift_m for r in runs):.3f}", "")
     console.print(t)
-    kicks = [kick_trial(make_kick, seed=s, pose_noise_rad=0.01, ball_noise_m=0.01,
+    kicks = [kick_from_stand(make_kick, seed=s, pose_noise_rad=0.01, ball_noise_m=0.01,
                         speed_noise_rad_s=0.05, world=world) for s in range(args.kick_runs)]
     t = Table(title="other team kick")
     for c in ("seed", "distance m", "lateral m", "standing"):

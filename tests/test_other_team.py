@@ -9,7 +9,7 @@ import pytest
 
 from mimic.agents.other_team import make_kick, make_walk
 from mimic.agents.other_team.ik import leg_fk, leg_ik
-from mimic.checks.walking import kick_trial, walk_trial
+from mimic.checks.walking import kick_from_stand, straight_walk
 from mimic.robot.joints import NUM_JOINTS, joint_index
 from mimic.world.base import CYCLE_S, World
 from mimic.world.mujoco_world import MujocoWorld
@@ -24,7 +24,7 @@ def world() -> World:
 
 @pytest.fixture(scope="module")
 def walk_result(world):
-    return walk_trial(make_walk, distance_m=4.0, world=world)
+    return straight_walk(make_walk, distance_m=4.0, world=world)
 
 
 def test_agents_hide_their_references_and_name_their_team():
@@ -83,6 +83,6 @@ def test_walk_is_periodic_at_steady_state(walk_result):
 
 
 def test_kick_sends_ball_3_m_and_robot_stays_up(world):
-    r = kick_trial(make_kick, seed=0, world=world)
+    r = kick_from_stand(make_kick, seed=0, world=world)
     assert r.distance_m >= 3.0
     assert r.standing

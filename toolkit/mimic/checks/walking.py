@@ -20,7 +20,7 @@ from mimic.world import field as F
 from mimic.world.base import Observation, World
 from mimic.world.mujoco_world import MujocoWorld
 
-__all__ = ["WalkResult", "KickResult", "walk_trial", "kick_trial", "NoisyCommands"]
+__all__ = ["WalkResult", "KickResult", "straight_walk", "kick_from_stand", "NoisyCommands"]
 
 
 class NoisyCommands(Agent):
@@ -97,7 +97,7 @@ class KickResult:
     standing: bool
 
 
-def walk_trial(make_agent: Callable[[], Agent], distance_m: float = 15.0, *, seed: int = 0,
+def straight_walk(make_agent: Callable[[], Agent], distance_m: float = 15.0, *, seed: int = 0,
                speed_noise_rad_s: float = 0.0, start_after_m: float = 1.0,
                max_time_s: float = 60.0, world: MujocoWorld | None = None) -> WalkResult:
     """Place the robot standing on its own goal line facing +x and let the agent walk.
@@ -122,7 +122,7 @@ def walk_trial(make_agent: Callable[[], Agent], distance_m: float = 15.0, *, see
                       np.array(log.angles))
 
 
-def kick_trial(make_agent: Callable[[], Agent], *, seed: int = 0, pose_noise_rad: float = 0.0,
+def kick_from_stand(make_agent: Callable[[], Agent], *, seed: int = 0, pose_noise_rad: float = 0.0,
                ball_noise_m: float = 0.0, speed_noise_rad_s: float = 0.0,
                world: MujocoWorld | None = None) -> KickResult:
     """Stand the robot at the centre spot, put the ball where the kick wants it, kick.
