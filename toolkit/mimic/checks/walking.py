@@ -98,8 +98,8 @@ class KickResult:
 
 
 def straight_walk(make_agent: Callable[[], Agent], distance_m: float = 15.0, *, seed: int = 0,
-               speed_noise_rad_s: float = 0.0, start_after_m: float = 1.0,
-               max_time_s: float = 60.0, world: MujocoWorld | None = None) -> WalkResult:
+                  speed_noise_rad_s: float = 0.0, start_after_m: float = 1.0,
+                  max_time_s: float = 60.0, world: MujocoWorld | None = None) -> WalkResult:
     """Place the robot standing on its own goal line facing +x and let the agent walk.
 
     The speed is measured from the moment the torso has advanced ``start_after_m`` [m]
@@ -122,9 +122,10 @@ def straight_walk(make_agent: Callable[[], Agent], distance_m: float = 15.0, *, 
                       np.array(log.angles))
 
 
-def kick_from_stand(make_agent: Callable[[], Agent], *, seed: int = 0, pose_noise_rad: float = 0.0,
-               ball_noise_m: float = 0.0, speed_noise_rad_s: float = 0.0,
-               world: MujocoWorld | None = None) -> KickResult:
+def kick_from_stand(make_agent: Callable[[], Agent], *, seed: int = 0,
+                    pose_noise_rad: float = 0.0, ball_noise_m: float = 0.0,
+                    speed_noise_rad_s: float = 0.0,
+                    world: MujocoWorld | None = None) -> KickResult:
     """Stand the robot at the centre spot, put the ball where the kick wants it, kick.
 
     After the agent reports done, the joints hold their last pose for 2 s and the ball is
