@@ -17,7 +17,6 @@ from mimic.cli.main import app
 from mimic.errors import MimicError
 from mimic.robot.actuators import JointCommand
 from mimic.robot.registry import get_robot, robot_names
-from mimic.world import field as F
 from mimic.world.mujoco_world import MujocoWorld
 
 rcsssmj = pytest.importorskip("rcsssmj")
@@ -41,6 +40,7 @@ def standing(request):
     robot = world.robot
     world.reset()
     world.place_robot(0, 0, 0, robot.stand_pose())
+    world.place_ball(0.0, 3.0)  # the league's ball (0.11 m) would sit between the feet
     heights, tilts, fallen = [world.torso_pos_m()[2]], [], []
     command = JointCommand.references(robot.stand_pose())
     for _ in range(500):
@@ -217,7 +217,8 @@ def test_robot_touches_the_ball_and_the_ground():
     # The ball resting on the instep: 2 mm into the top of the foot box.
     x, y, z = d.geom_xpos[foot.id]
     world.place_ball(x, y)
-    d.qpos[m.jnt_qposadr[m.joint("ball").id] + 2] = z + foot.size[2] + F.BALL_RADIUS_M - 0.002
+    radius = world.field.ball_radius_m
+    d.qpos[m.jnt_qposadr[m.joint("ball").id] + 2] = z + foot.size[2] + radius - 0.002
     mujoco.mj_forward(m, d)
     pairs = {frozenset((m.geom(c.geom1).name, m.geom(c.geom2).name)) for c in d.contact[:d.ncon]}
     assert frozenset(("ball", "left_foot")) in pairs

@@ -1,9 +1,9 @@
 """A robot from an MJCF file (the league's T1 and K1) on our field.
 
-Our field, goals and ball (``scene_xml`` without a robot) with the robot's MJCF attached by
-``mujoco.MjSpec``: its root body with its free joint, its defaults, contact excludes and
-geoms as they are (they collide with the ground, the ball and each other, as in the league).
-What we change, and why:
+A field, its goals and ball (``scene_xml`` without a robot; the league's for league robots)
+with the robot's MJCF attached by ``mujoco.MjSpec``: its root body with its free joint, its
+defaults, contact excludes and geoms as they are (they collide with the ground, the ball and
+each other, as in the league). What we change, and why:
 
 * The league's ``<name>_tau``, ``_pos`` and ``_vel`` actuators go; one position actuator per
   joint, named exactly as the joint, takes their place: kp = the robot's kp, kv = its kd,
@@ -26,6 +26,7 @@ from mimic.robot.actuators import PDMotors
 from mimic.robot.mjcf import FOOT_SITES
 from mimic.robot.mjcf_reader import sole_box
 from mimic.robot.model import RobotDescription
+from mimic.world.field import Field, field_for_robot
 from mimic.world.scene import PhysicsConfig, scene_xml
 
 __all__ = ["attached_robot_model", "SOLE_SITE_MARGIN_M", "SOLE_SITE_HALF_HEIGHT_M"]
@@ -77,10 +78,12 @@ def _add_sensors(spec: mujoco.MjSpec, robot: RobotDescription) -> None:
         spec.add_sensor(name=name, type=kind, objtype=site, objname=obj)
 
 
-def attached_robot_model(robot: RobotDescription,
-                         physics: PhysicsConfig) -> mujoco.MjModel:
-    """The compiled scene: our field and ball with ``robot`` (which has ``mjcf_path``)."""
-    spec = mujoco.MjSpec.from_string(scene_xml(physics, servos=None))
+def attached_robot_model(robot: RobotDescription, physics: PhysicsConfig,
+                         field: Field | None = None) -> mujoco.MjModel:
+    """The compiled scene: ``field`` (default: the robot's, ``field_for_robot``) and its
+    ball with ``robot`` (which has ``mjcf_path``)."""
+    field = field or field_for_robot(robot.world)
+    spec = mujoco.MjSpec.from_string(scene_xml(physics, servos=None, field=field))
     part = mujoco.MjSpec.from_file(str(robot.mjcf_path))
     _mesh_paths_absolute(part, robot.mjcf_path)
     for element in [*part.actuators, *part.sensors]:

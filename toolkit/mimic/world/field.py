@@ -2,7 +2,8 @@
 
 Field frame: origin at the centre spot, x toward the opponent goal, y to the left, z up [m].
 The constants are the study's field (SimSpark's); ``Field`` holds a field as data, so a
-world can carry its own (``NAO_FIELD`` here, the league's in ``mimic.league``).
+world can carry its own (``NAO_FIELD`` here, the league's read from RCSSServerMJ in
+``world/league_field.py``; ``field_for_robot`` picks a robot's).
 """
 
 from __future__ import annotations
@@ -10,7 +11,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 __all__ = [
-    "Field", "NAO_FIELD",
+    "Field", "Contact", "NAO_FIELD", "field_for_robot",
     "FIELD_LENGTH_M", "FIELD_WIDTH_M", "GOAL_WIDTH_M", "GOAL_HEIGHT_M", "GOAL_DEPTH_M",
     "PENALTY_DEPTH_M", "PENALTY_WIDTH_M", "CENTRE_CIRCLE_RADIUS_M", "LINE_WIDTH_M",
     "BALL_RADIUS_M", "BALL_MASS_KG", "OPPONENT_GOAL_X_M", "OWN_GOAL_X_M",
@@ -34,8 +35,29 @@ OWN_GOAL_X_M = -FIELD_LENGTH_M / 2
 
 
 @dataclass(frozen=True)
+class Contact:
+    """How a geom touches others, in MuJoCo's terms (its ``geom`` attributes).
+
+    Attributes:
+        friction: (sliding, torsional [m], rolling [m]) friction.
+        condim: contact dimensionality (3: sliding; 6: also torsional and rolling).
+        solref: (2,) solver reference: (time constant [s], damping ratio), or negative
+            (-stiffness, -damping).
+        priority: the geom with the higher priority sets the contact's parameters.
+    """
+
+    friction: tuple[float, float, float]
+    condim: int
+    solref: tuple[float, float]
+    priority: int = 0
+
+
+@dataclass(frozen=True)
 class Field:
-    """A soccer field and its ball [m, kg]; goals centred on the x axis at +-length/2."""
+    """A soccer field and its ball [m, kg]; goals centred on the x axis at +-length/2.
+
+    ``ball_contact`` and ``ground_contact`` None: our own grass and ball (``PhysicsConfig``).
+    """
 
     length_m: float
     width_m: float
@@ -44,6 +66,13 @@ class Field:
     goal_depth_m: float
     ball_radius_m: float
     ball_mass_kg: float
+    penalty_depth_m: float = PENALTY_DEPTH_M
+    penalty_width_m: float = PENALTY_WIDTH_M
+    centre_circle_radius_m: float = CENTRE_CIRCLE_RADIUS_M
+    line_width_m: float = LINE_WIDTH_M
+    goal_post_radius_m: float = 0.05
+    ball_contact: Contact | None = None
+    ground_contact: Contact | None = None
 
     @property
     def opponent_goal_x_m(self) -> float:
@@ -72,3 +101,13 @@ class Field:
 #: The study's field (the RoboCup Soccer 3D league's SimSpark field) and ball.
 NAO_FIELD = Field(FIELD_LENGTH_M, FIELD_WIDTH_M, GOAL_WIDTH_M, GOAL_HEIGHT_M, GOAL_DEPTH_M,
                   BALL_RADIUS_M, BALL_MASS_KG)
+
+
+def field_for_robot(world: str) -> Field:
+    """The field a robot plays on by default, from its ``RobotDescription.world``: the
+    league's (RCSSServerMJ's field and ball) for ``league``, the study's otherwise."""
+    if world == "league":
+        from mimic.world.league_field import league_field
+
+        return league_field()
+    return NAO_FIELD

@@ -15,7 +15,7 @@ from mimic.robot.actuators import JointCommand
 from mimic.robot.model import RobotDescription
 from mimic.robot.registry import get_robot
 from mimic.world.base import CYCLE_S, POSTURES, BodyPoses, Observation, World
-from mimic.world.field import NAO_FIELD
+from mimic.world.field import Field, field_for_robot
 from mimic.world.scene import FOOT_TOUCH_SENSORS, PhysicsConfig, build_model
 
 __all__ = ["MujocoWorld"]
@@ -33,14 +33,16 @@ class MujocoWorld(World):
     Args:
         robot: a ``RobotDescription`` or a robot name (default: ``nao``).
         physics: simulation settings (default: the robot's, ``PhysicsConfig.for_robot``).
+        field: the field and ball (default: the robot's, ``field_for_robot``: the league's
+            for league robots, the study's for our NAO).
     """
 
     def __init__(self, robot: RobotDescription | str | None = None,
-                 physics: PhysicsConfig | None = None) -> None:
+                 physics: PhysicsConfig | None = None, field: Field | None = None) -> None:
         self.robot = get_robot(robot)
-        self.field = NAO_FIELD
+        self.field = field or field_for_robot(self.robot.world)
         self.physics = physics or PhysicsConfig.for_robot(self.robot)
-        self.model = build_model(self.robot, self.physics)
+        self.model = build_model(self.robot, self.physics, self.field)
         self.data = mujoco.MjData(self.model)
         m, names = self.model, self.robot.joint_names
         self.substeps = round(CYCLE_S / m.opt.timestep)
