@@ -152,6 +152,11 @@ class WalkEngine(Agent):
         self._heading_rad = None
         self._line = None
         self._yaw_history: list[tuple[float, float]] = []
+        # Odometry: torso positions of the last gait period (walking only), the step
+        # commands that should have produced them, and the correction learnt from both.
+        self._pos_history: list[tuple[float, float]] = []
+        self._base_history: list[np.ndarray] = []
+        self._odometry = np.zeros(2)
         self.done = False
 
     def _begin(self, state: str) -> None:
@@ -206,12 +211,18 @@ class WalkEngine(Agent):
         if self._state != "walking":
             self._heading_rad = yaw
             self._line = None
+            self._pos_history = []
+            self._base_history = []
             return
-        self._heading_rad = _wrap(self._heading_rad + self._velocity[2] * CYCLE_S)
-        # Anti-windup: when the turn lags the command, the desired heading waits for it.
-        lag = float(np.clip(_wrap(self._heading_rad - self._mean_yaw_rad),
-                            -cfg.max_heading_error_rad, cfg.max_heading_error_rad))
-        self._heading_rad = _wrap(self._mean_yaw_rad + lag)
+        self._pos_history.append((float(obs.torso_pos_m[0]), float(obs.torso_pos_m[1])))
+        del self._pos_history[:-(2 * cfg.step_cycles + 1)]
+        # Anti-windup: when the turn lags the command, the desired heading waits for it. Only
+        # the command's own advance waits: a heading knocked away (a slipping foot, a rocking
+        # step) is not given up, else every such knock would stay in the walked direction.
+        ahead = _wrap(self._heading_rad + self._velocity[2] * CYCLE_S - self._mean_yaw_rad)
+        if abs(ahead) <= cfg.max_heading_error_rad or \
+                abs(ahead) < abs(_wrap(self._heading_rad - self._mean_yaw_rad)):
+            self._heading_rad = _wrap(self._heading_rad + self._velocity[2] * CYCLE_S)
         self._aim_rad = self._heading_rad
         if cfg.line_gain and self._velocity[1] == 0.0 and self._velocity[2] == 0.0:
             pos = obs.torso_pos_m
@@ -268,8 +279,42 @@ class WalkEngine(Agent):
         self._peak_tilt = 0.0
         pitch_err, pitch_rate = self._pitch_state
         cmd = self._step_base.copy()
+        cmd[:2] += self._odometry_correction()
         cmd[0] += cfg.step_per_pitch_m * pitch_err + cfg.step_per_pitch_rate_m_s * pitch_rate
         return np.clip(cmd, -high, high)
+
+    def _odometry_correction(self) -> np.ndarray:
+        """(2,) forward and sideways step correction [m]: the integrated gap between the
+        steps commanded over the last gait period and the torso motion they produced.
+
+        Short steps carry a bias of the gait (stepping in place or sideways creeps backward
+        by a few cm/s, more on a slippery or heavier robot); the stride scale, calibrated at
+        full speed, cannot see it, so the walked velocity is measured from the localisation
+        estimate over whole gait periods (the torso's sway cancels) and fed back. It fades
+        out toward full-speed forward steps, whose per-period motion is dominated by the
+        heading's swing and the capture steps (there the stride scale and the line hold do
+        the job). Off while stopping, so the last steps still close the feet at the nominal
+        stance."""
+        cfg = self.config
+        if self._stop_requested or not cfg.odometry_gain:
+            self._odometry[:] = 0.0
+            return self._odometry
+        n = 2 * cfg.step_cycles
+        if len(self._pos_history) > n and len(self._base_history) >= 2:
+            (x0, y0), (x1, y1) = self._pos_history[0], self._pos_history[-1]
+            c, s = math.cos(self._mean_yaw_rad), math.sin(self._mean_yaw_rad)
+            walked = np.array([c * (x1 - x0) + s * (y1 - y0), -s * (x1 - x0) + c * (y1 - y0)])
+            wanted = self._base_history[-2] + self._base_history[-1]
+            wanted[0] /= cfg.stride_scale
+            lim = np.array([cfg.max_odometry_x_m, cfg.max_odometry_y_m])
+            self._odometry = np.clip(self._odometry + cfg.odometry_gain * (wanted - walked) / 2,
+                                     -lim, lim)
+        return self._odometry * self._odometry_weight()
+
+    def _odometry_weight(self) -> float:
+        """1 for short forward steps, fading to 0 at ``odometry_fade_step_m``."""
+        fade = self.config.odometry_fade_step_m
+        return float(np.clip(1.0 - abs(self._step_base[0]) / fade, 0.0, 1.0)) if fade else 1.0
 
     def _reference(self, obs: Observation) -> tuple[np.ndarray, np.ndarray]:
         """(nominal, reference) joint angles for the end of this cycle, (22,) each [rad]."""
@@ -348,6 +393,8 @@ class WalkEngine(Agent):
             support = 1 - self._plan.support
             self.steps_taken += 1
         self._step_cmd = self._next_command()
+        self._base_history.append(self._step_base[:2].copy())
+        del self._base_history[:-2]
         self._plan = plan_step(self.config, support, end, self._step_cmd)
 
     def _feedback(self, ref: np.ndarray, obs: Observation,

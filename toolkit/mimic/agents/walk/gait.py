@@ -97,6 +97,14 @@ class WalkConfig:
     # forward (pitch error, pitch rate) lengthens the step, one falling back shortens it.
     step_per_pitch_m: float = 0.1077
     step_per_pitch_rate_m_s: float = 0.003554
+    # Odometry feedback: each step, this share of the per-step gap between the commanded
+    # steps and the torso motion over the last gait period (from ``torso_pos_m``) is added
+    # to an integrated correction of the step [1/step], at most these many m per step.
+    odometry_gain: float = 0.25
+    max_odometry_x_m: float = 0.015
+    max_odometry_y_m: float = 0.01
+    # The odometry correction fades out linearly toward forward steps this long [m] (0: never).
+    odometry_fade_step_m: float = 0.05
     # Caution: when the torso tilted (pitch error or roll) more than this during a step
     # [rad], the next step's forward length is scaled by ``caution_step_scale`` and its turn
     # dropped (0: off).
