@@ -34,7 +34,7 @@ from mimic.agents.tracking import TrackingController
 from mimic.agents.walk.gait import StepPlan, WalkConfig, feet_at, nominal_foot, plan_step
 from mimic.motion.files import stand_pose_rad
 from mimic.robot.joints import joint_index
-from mimic.robot.leg_ik import leg_ik, leg_joint_indices
+from mimic.robot.leg_ik import leg_fk, leg_ik, leg_joint_indices
 from mimic.robot.mjcf import MAX_JOINT_SPEED_RAD_S
 from mimic.world.world import CYCLE_S, Observation
 
@@ -94,6 +94,7 @@ class WalkEngine(Agent):
         self._stop_requested = False
         self._state = "standing"
         self.steps_taken = 0
+        self._halt_shift_m: float | None = None
         self._init_state(self._stand)
 
     # --- commands -------------------------------------------------------------------------
@@ -121,6 +122,17 @@ class WalkEngine(Agent):
     def state(self) -> str:
         """``starting``, ``walking``, ``halting`` or ``standing``."""
         return self._state
+
+    @property
+    def halt_shift_m(self) -> float:
+        """How far the torso moves forward [m] (negative: back) over the feet when the
+        nominal walk stance blends into the stand pose on halting: the walk carries the
+        torso ahead of the ankles, the stand pose nearly over them."""
+        if self._halt_shift_m is None:
+            stand_x = np.mean([leg_fk(side, self._stand[_LEGS[i]])[0][0]
+                               for i, side in enumerate(_SIDES)])
+            self._halt_shift_m = float(self.config.ankle_x_m - stand_x)
+        return self._halt_shift_m
 
     @property
     def velocity_command(self) -> np.ndarray:
@@ -276,14 +288,15 @@ class WalkEngine(Agent):
             # The last step rocked the torso hard: shorter, straight steps until it calms.
             self._step_base[0] *= cfg.caution_step_scale
             self._step_base[2] = 0.0
+        calm = self._peak_tilt < cfg.odometry_calm_tilt_rad
         self._peak_tilt = 0.0
         pitch_err, pitch_rate = self._pitch_state
         cmd = self._step_base.copy()
-        cmd[:2] += self._odometry_correction()
+        cmd[:2] += self._odometry_correction(calm)
         cmd[0] += cfg.step_per_pitch_m * pitch_err + cfg.step_per_pitch_rate_m_s * pitch_rate
         return np.clip(cmd, -high, high)
 
-    def _odometry_correction(self) -> np.ndarray:
+    def _odometry_correction(self, calm: bool) -> np.ndarray:
         """(2,) forward and sideways step correction [m]: the integrated gap between the
         steps commanded over the last gait period and the torso motion they produced.
 
@@ -293,14 +306,15 @@ class WalkEngine(Agent):
         estimate over whole gait periods (the torso's sway cancels) and fed back. It fades
         out toward full-speed forward steps, whose per-period motion is dominated by the
         heading's swing and the capture steps (there the stride scale and the line hold do
-        the job). Off while stopping, so the last steps still close the feet at the nominal
-        stance."""
+        the job). It learns only from calm steps: a lurch is the capture steps' business,
+        and shortening the steps against it would trip the robot. Off while stopping, so the
+        last steps still close the feet at the nominal stance."""
         cfg = self.config
         if self._stop_requested or not cfg.odometry_gain:
             self._odometry[:] = 0.0
             return self._odometry
         n = 2 * cfg.step_cycles
-        if len(self._pos_history) > n and len(self._base_history) >= 2:
+        if calm and len(self._pos_history) > n and len(self._base_history) >= 2:
             (x0, y0), (x1, y1) = self._pos_history[0], self._pos_history[-1]
             c, s = math.cos(self._mean_yaw_rad), math.sin(self._mean_yaw_rad)
             walked = np.array([c * (x1 - x0) + s * (y1 - y0), -s * (x1 - x0) + c * (y1 - y0)])

@@ -103,6 +103,9 @@ class WalkConfig:
     odometry_gain: float = 0.25
     max_odometry_x_m: float = 0.015
     max_odometry_y_m: float = 0.01
+    # The odometry learns only from steps whose torso tilt (pitch error or roll) stayed
+    # below this [rad].
+    odometry_calm_tilt_rad: float = 0.1
     # The odometry correction fades out linearly toward forward steps this long [m] (0: never).
     odometry_fade_step_m: float = 0.05
     # Caution: when the torso tilted (pitch error or roll) more than this during a step

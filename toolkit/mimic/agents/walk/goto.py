@@ -93,6 +93,9 @@ class GoToConfig:
     near_ball_tolerance_scale: float = 1.4
     # The integral term only works this close to the target [m] (no wind-up on the way in).
     integral_radius_m: float = 0.08
+    # Speed toward the goal point at most sqrt(2 * this * distance) [m/s^2]: a walking robot
+    # braked harder pitches forward over its feet (and the last steps overshoot).
+    max_decel_m_s2: float = 0.25
 
 
 class GoToPose(Agent):
@@ -205,6 +208,9 @@ class GoToPose(Agent):
         if self.engine.state == "standing":
             self._history = []  # standing still: the pose is exact
         fx, fy, dh = self._smoothed_errors(obs)
+        if self.engine.state != "standing":
+            # Steer the pose the robot will stand in once halted, not the walking one.
+            fx -= self.engine.halt_shift_m
         dist = math.hypot(fx, fy)
         # Next to the ball every extra correction risks touching it: settle for a little less.
         loose = 1.0
@@ -259,6 +265,10 @@ class GoToPose(Agent):
                 vx, vy = vx * scale, vy * scale
         vx = float(np.clip(vx, -0.5 * cfg.max_vx_m_s, cfg.max_vx_m_s))
         vy = float(np.clip(vy, -cfg.max_vy_m_s, cfg.max_vy_m_s))
+        if cfg.max_decel_m_s2:
+            brake = math.sqrt(2 * cfg.max_decel_m_s2 * dist)
+            scale = min(1.0, brake / max(math.hypot(vx, vy), 1e-9))
+            vx, vy = vx * scale, vy * scale
         if cfg.avoid_ball and way is None:
             # Short steps near the ball: a long stride's swing foot would reach it.
             near = float(np.hypot(*(obs.ball_pos_m[:2] - obs.torso_pos_m[:2])))
