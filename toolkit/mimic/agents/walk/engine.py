@@ -231,8 +231,11 @@ class WalkEngine(Agent):
         # Anti-windup: when the turn lags the command, the desired heading waits for it. Only
         # the command's own advance waits: a heading knocked away (a slipping foot, a rocking
         # step) is not given up, else every such knock would stay in the walked direction.
+        # The lead allowed grows with the commanded rate: a slow turn asked for by an outer
+        # loop (go-to-pose) must not run far ahead of the torso, or the two loops ring.
+        lead = min(cfg.max_heading_error_rad, abs(self._velocity[2]) * cfg.heading_lead_s)
         ahead = _wrap(self._heading_rad + self._velocity[2] * CYCLE_S - self._mean_yaw_rad)
-        if abs(ahead) <= cfg.max_heading_error_rad or \
+        if abs(ahead) <= lead or \
                 abs(ahead) < abs(_wrap(self._heading_rad - self._mean_yaw_rad)):
             self._heading_rad = _wrap(self._heading_rad + self._velocity[2] * CYCLE_S)
         self._aim_rad = self._heading_rad

@@ -127,6 +127,8 @@ class WalkConfig:
     smooth_heading: bool = True
     # Largest lead of the desired heading over the measured one [rad] (anti-windup).
     max_heading_error_rad: float = 0.25
+    # ... and at most the commanded yaw rate times this [s].
+    heading_lead_s: float = 0.4
     # Line hold while walking straight: the desired heading points back at the line walked
     # so far, this much per metre of sideways offset [rad/m] (at most ``max_line_aim_rad``).
     line_gain: float = 0.2478
