@@ -10,11 +10,14 @@ the gait by 1/gain, while the noisy IMU feedback is never differentiated.
 
 Step-level feedback: the torso pitch at each step start lengthens or shortens the step
 (capture the fall), and a step that rocked the torso hard (tilt above ``caution_tilt_rad``)
-makes the next one shorter and straight. Every planned joint reference is rate-limited to
-what the speed-capped servos can follow.
+makes the next one shorter and straight. Odometry feedback closes the gap between the
+commanded short steps and the walked ones (from the localisation estimate over whole gait
+periods), so slow, sideways and in-place steps do not creep. Every planned joint reference is
+rate-limited to what the speed-capped servos can follow.
 
 Heading is held from the torso orientation averaged over the last gait period (the commanded
-yaw rate integrates into a desired heading, with anti-windup); while walking straight the
+yaw rate integrates into a desired heading that may lead the torso by at most what the rate
+asks for; a heading knocked away is steered back, not given up); while walking straight the
 desired heading also points back at the line walked so far (from the localisation estimate
 ``torso_pos_m``), so the lateral drift stays bounded.
 
