@@ -172,6 +172,7 @@ class WalkEngine(Agent):
         self._pos_history: list[tuple[float, float]] = []
         self._base_history: list[np.ndarray] = []
         self._odometry = np.zeros(2)
+        self._line_step = np.zeros(2)
         self.done = False
 
     def _begin(self, state: str) -> None:
@@ -253,8 +254,23 @@ class WalkEngine(Agent):
             self._aim_rad = _wrap(h - sign * float(np.clip(cfg.line_gain * offset,
                                                            -cfg.max_line_aim_rad,
                                                            cfg.max_line_aim_rad)))
+        elif cfg.side_line_gain and self._velocity[1] != 0.0 and self._velocity[2] == 0.0:
+            # Sideways or diagonal: the heading must stay (it is part of the command), so the
+            # line is held with steps across it instead of by steering.
+            pos = obs.torso_pos_m
+            if self._line is None:
+                travel = self._heading_rad + math.atan2(self._velocity[1], self._velocity[0])
+                self._line = (float(pos[0]), float(pos[1]), travel)
+            x0, y0, h = self._line
+            offset = -math.sin(h) * (pos[0] - x0) + math.cos(h) * (pos[1] - y0)
+            back = float(np.clip(cfg.side_line_gain * offset, -cfg.max_side_line_step_m,
+                                 cfg.max_side_line_step_m))
+            across = h + math.pi / 2 - self._mean_yaw_rad  # the line's left, robot frame
+            self._line_step = -back * np.array([math.cos(across), math.sin(across)])
         else:
             self._line = None
+        if self._line is None or self._velocity[1] == 0.0:
+            self._line_step = np.zeros(2)
 
     # --- internals ------------------------------------------------------------------------
     def _walk_pose(self, feet: np.ndarray, lean_rad: float) -> np.ndarray:
@@ -299,6 +315,8 @@ class WalkEngine(Agent):
         pitch_err, pitch_rate = self._pitch_state
         cmd = self._step_base.copy()
         cmd[:2] += self._odometry_correction(calm)
+        if not self._stop_requested:
+            cmd[:2] += self._line_step
         cmd[0] += cfg.step_per_pitch_m * pitch_err + cfg.step_per_pitch_rate_m_s * pitch_rate
         return np.clip(cmd, -high, high)
 

@@ -133,6 +133,10 @@ class WalkConfig:
     # so far, this much per metre of sideways offset [rad/m] (at most ``max_line_aim_rad``).
     line_gain: float = 0.2478
     max_line_aim_rad: float = 0.3
+    # Line hold while walking sideways or diagonally without turning: a step across the line,
+    # this much per metre of offset [m/m], at most ``max_side_line_step_m`` [m].
+    side_line_gain: float = 0.05
+    max_side_line_step_m: float = 0.01
     # Arm swing: shoulder pitch offset per metre of the opposite foot's forward offset
     # [rad/m]; cancels part of the swing leg's yaw moment.
     arm_swing_rad_per_m: float = -2.661
