@@ -10,11 +10,14 @@ the gait by 1/gain, while the noisy IMU feedback is never differentiated.
 
 Step-level feedback: the torso pitch at each step start lengthens or shortens the step
 (capture the fall), and a step that rocked the torso hard (tilt above ``caution_tilt_rad``)
-makes the next one shorter and straight. Every planned joint reference is rate-limited to
-what the speed-capped servos can follow.
+makes the next one shorter and straight. Odometry feedback closes the gap between the
+commanded short steps and the walked ones (from the localisation estimate over whole gait
+periods), so slow, sideways and in-place steps do not creep. Every planned joint reference is
+rate-limited to what the speed-capped servos can follow.
 
 Heading is held from the torso orientation averaged over the last gait period (the commanded
-yaw rate integrates into a desired heading, with anti-windup); while walking straight the
+yaw rate integrates into a desired heading that may lead the torso by at most what the rate
+asks for; a heading knocked away is steered back, not given up); while walking straight the
 desired heading also points back at the line walked so far (from the localisation estimate
 ``torso_pos_m``), so the lateral drift stays bounded.
 
@@ -33,7 +36,7 @@ from mimic.agents.base import Agent, JointCommand
 from mimic.agents.walk.gait import StepPlan, WalkConfig, feet_at, nominal_foot, plan_step
 from mimic.geometry import torso_pitch_roll as _pitch_roll_left
 from mimic.robot.joints import joint_index
-from mimic.robot.leg_ik import leg_ik, leg_joint_indices
+from mimic.robot.leg_ik import leg_fk, leg_ik, leg_joint_indices
 from mimic.robot.nao import nao
 from mimic.world.base import CYCLE_S, Observation
 
@@ -91,6 +94,7 @@ class WalkEngine(Agent):
         self._stop_requested = False
         self._state = "standing"
         self.steps_taken = 0
+        self._halt_shift_m: float | None = None
         self._init_state(self._stand)
 
     # --- commands -------------------------------------------------------------------------
@@ -118,6 +122,17 @@ class WalkEngine(Agent):
     def state(self) -> str:
         """``starting``, ``walking``, ``halting`` or ``standing``."""
         return self._state
+
+    @property
+    def halt_shift_m(self) -> float:
+        """How far the torso moves forward [m] (negative: back) over the feet when the
+        nominal walk stance blends into the stand pose on halting: the walk carries the
+        torso ahead of the ankles, the stand pose nearly over them."""
+        if self._halt_shift_m is None:
+            stand_x = np.mean([leg_fk(side, self._stand[_LEGS[i]])[0][0]
+                               for i, side in enumerate(_SIDES)])
+            self._halt_shift_m = float(self.config.ankle_x_m - stand_x)
+        return self._halt_shift_m
 
     @property
     def velocity_command(self) -> np.ndarray:
@@ -149,6 +164,12 @@ class WalkEngine(Agent):
         self._heading_rad = None
         self._line = None
         self._yaw_history: list[tuple[float, float]] = []
+        # Odometry: torso positions of the last gait period (walking only), the step
+        # commands that should have produced them, and the correction learnt from both.
+        self._pos_history: list[tuple[float, float]] = []
+        self._base_history: list[np.ndarray] = []
+        self._odometry = np.zeros(2)
+        self._line_step = np.zeros(2)
         self.done = False
 
     def _begin(self, state: str) -> None:
@@ -203,12 +224,21 @@ class WalkEngine(Agent):
         if self._state != "walking":
             self._heading_rad = yaw
             self._line = None
+            self._pos_history = []
+            self._base_history = []
             return
-        self._heading_rad = _wrap(self._heading_rad + self._velocity[2] * CYCLE_S)
-        # Anti-windup: when the turn lags the command, the desired heading waits for it.
-        lag = float(np.clip(_wrap(self._heading_rad - self._mean_yaw_rad),
-                            -cfg.max_heading_error_rad, cfg.max_heading_error_rad))
-        self._heading_rad = _wrap(self._mean_yaw_rad + lag)
+        self._pos_history.append((float(obs.torso_pos_m[0]), float(obs.torso_pos_m[1])))
+        del self._pos_history[:-(2 * cfg.step_cycles + 1)]
+        # Anti-windup: when the turn lags the command, the desired heading waits for it. Only
+        # the command's own advance waits: a heading knocked away (a slipping foot, a rocking
+        # step) is not given up, else every such knock would stay in the walked direction.
+        # The lead allowed grows with the commanded rate: a slow turn asked for by an outer
+        # loop (go-to-pose) must not run far ahead of the torso, or the two loops ring.
+        lead = min(cfg.max_heading_error_rad, abs(self._velocity[2]) * cfg.heading_lead_s)
+        ahead = _wrap(self._heading_rad + self._velocity[2] * CYCLE_S - self._mean_yaw_rad)
+        if abs(ahead) <= lead or \
+                abs(ahead) < abs(_wrap(self._heading_rad - self._mean_yaw_rad)):
+            self._heading_rad = _wrap(self._heading_rad + self._velocity[2] * CYCLE_S)
         self._aim_rad = self._heading_rad
         if cfg.line_gain and self._velocity[1] == 0.0 and self._velocity[2] == 0.0:
             pos = obs.torso_pos_m
@@ -221,8 +251,23 @@ class WalkEngine(Agent):
             self._aim_rad = _wrap(h - sign * float(np.clip(cfg.line_gain * offset,
                                                            -cfg.max_line_aim_rad,
                                                            cfg.max_line_aim_rad)))
+        elif cfg.side_line_gain and self._velocity[1] != 0.0 and self._velocity[2] == 0.0:
+            # Sideways or diagonal: the heading must stay (it is part of the command), so the
+            # line is held with steps across it instead of by steering.
+            pos = obs.torso_pos_m
+            if self._line is None:
+                travel = self._heading_rad + math.atan2(self._velocity[1], self._velocity[0])
+                self._line = (float(pos[0]), float(pos[1]), travel)
+            x0, y0, h = self._line
+            offset = -math.sin(h) * (pos[0] - x0) + math.cos(h) * (pos[1] - y0)
+            back = float(np.clip(cfg.side_line_gain * offset, -cfg.max_side_line_step_m,
+                                 cfg.max_side_line_step_m))
+            across = h + math.pi / 2 - self._mean_yaw_rad  # the line's left, robot frame
+            self._line_step = -back * np.array([math.cos(across), math.sin(across)])
         else:
             self._line = None
+        if self._line is None or self._velocity[1] == 0.0:
+            self._line_step = np.zeros(2)
 
     # --- internals ------------------------------------------------------------------------
     def _walk_pose(self, feet: np.ndarray, lean_rad: float) -> np.ndarray:
@@ -262,11 +307,49 @@ class WalkEngine(Agent):
             # The last step rocked the torso hard: shorter, straight steps until it calms.
             self._step_base[0] *= cfg.caution_step_scale
             self._step_base[2] = 0.0
+        calm = self._peak_tilt < cfg.odometry_calm_tilt_rad
         self._peak_tilt = 0.0
         pitch_err, pitch_rate = self._pitch_state
         cmd = self._step_base.copy()
+        cmd[:2] += self._odometry_correction(calm)
+        if not self._stop_requested:
+            cmd[:2] += self._line_step
         cmd[0] += cfg.step_per_pitch_m * pitch_err + cfg.step_per_pitch_rate_m_s * pitch_rate
         return np.clip(cmd, -high, high)
+
+    def _odometry_correction(self, calm: bool) -> np.ndarray:
+        """(2,) forward and sideways step correction [m]: the integrated gap between the
+        steps commanded over the last gait period and the torso motion they produced.
+
+        Short steps carry a bias of the gait (stepping in place or sideways creeps backward
+        by a few cm/s, more on a slippery or heavier robot); the stride scale, calibrated at
+        full speed, cannot see it, so the walked velocity is measured from the localisation
+        estimate over whole gait periods (the torso's sway cancels) and fed back. It fades
+        out toward full-speed forward steps, whose per-period motion is dominated by the
+        heading's swing and the capture steps (there the stride scale and the line hold do
+        the job). It learns only from calm steps: a lurch is the capture steps' business,
+        and shortening the steps against it would trip the robot. Off while stopping, so the
+        last steps still close the feet at the nominal stance."""
+        cfg = self.config
+        if self._stop_requested or not cfg.odometry_gain:
+            self._odometry[:] = 0.0
+            return self._odometry
+        n = 2 * cfg.step_cycles
+        if calm and len(self._pos_history) > n and len(self._base_history) >= 2:
+            (x0, y0), (x1, y1) = self._pos_history[0], self._pos_history[-1]
+            c, s = math.cos(self._mean_yaw_rad), math.sin(self._mean_yaw_rad)
+            walked = np.array([c * (x1 - x0) + s * (y1 - y0), -s * (x1 - x0) + c * (y1 - y0)])
+            wanted = self._base_history[-2] + self._base_history[-1]
+            wanted[0] /= cfg.stride_scale
+            lim = np.array([cfg.max_odometry_x_m, cfg.max_odometry_y_m])
+            self._odometry = np.clip(self._odometry + cfg.odometry_gain * (wanted - walked) / 2,
+                                     -lim, lim)
+        return self._odometry * self._odometry_weight()
+
+    def _odometry_weight(self) -> float:
+        """1 for short forward steps, fading to 0 at ``odometry_fade_step_m``."""
+        fade = self.config.odometry_fade_step_m
+        return float(np.clip(1.0 - abs(self._step_base[0]) / fade, 0.0, 1.0)) if fade else 1.0
 
     def _reference(self, obs: Observation) -> tuple[np.ndarray, np.ndarray]:
         """(nominal, reference) joint angles for the end of this cycle, (22,) each [rad]."""
@@ -345,6 +428,8 @@ class WalkEngine(Agent):
             support = 1 - self._plan.support
             self.steps_taken += 1
         self._step_cmd = self._next_command()
+        self._base_history.append(self._step_base[:2].copy())
+        del self._base_history[:-2]
         self._plan = plan_step(self.config, support, end, self._step_cmd)
 
     def _feedback(self, ref: np.ndarray, obs: Observation,

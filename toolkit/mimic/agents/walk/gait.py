@@ -97,6 +97,17 @@ class WalkConfig:
     # forward (pitch error, pitch rate) lengthens the step, one falling back shortens it.
     step_per_pitch_m: float = 0.1077
     step_per_pitch_rate_m_s: float = 0.003554
+    # Odometry feedback: each step, this share of the per-step gap between the commanded
+    # steps and the torso motion over the last gait period (from ``torso_pos_m``) is added
+    # to an integrated correction of the step [1/step], at most these many m per step.
+    odometry_gain: float = 0.25
+    max_odometry_x_m: float = 0.015
+    max_odometry_y_m: float = 0.01
+    # The odometry learns only from steps whose torso tilt (pitch error or roll) stayed
+    # below this [rad].
+    odometry_calm_tilt_rad: float = 0.1
+    # The odometry correction fades out linearly toward forward steps this long [m] (0: never).
+    odometry_fade_step_m: float = 0.05
     # Caution: when the torso tilted (pitch error or roll) more than this during a step
     # [rad], the next step's forward length is scaled by ``caution_step_scale`` and its turn
     # dropped (0: off).
@@ -116,10 +127,16 @@ class WalkConfig:
     smooth_heading: bool = True
     # Largest lead of the desired heading over the measured one [rad] (anti-windup).
     max_heading_error_rad: float = 0.25
+    # ... and at most the commanded yaw rate times this [s].
+    heading_lead_s: float = 0.4
     # Line hold while walking straight: the desired heading points back at the line walked
     # so far, this much per metre of sideways offset [rad/m] (at most ``max_line_aim_rad``).
     line_gain: float = 0.2478
     max_line_aim_rad: float = 0.3
+    # Line hold while walking sideways or diagonally without turning: a step across the line,
+    # this much per metre of offset [m/m], at most ``max_side_line_step_m`` [m].
+    side_line_gain: float = 0.05
+    max_side_line_step_m: float = 0.01
     # Arm swing: shoulder pitch offset per metre of the opposite foot's forward offset
     # [rad/m]; cancels part of the swing leg's yaw moment.
     arm_swing_rad_per_m: float = -2.661
@@ -131,7 +148,7 @@ class WalkConfig:
     # Joint speed cap of the planned reference [rad/s] (the servos stop at 6.14 rad/s):
     # the swing leg then lifts and swings as fast as the joints can go, not faster (0: off).
     max_reference_speed_rad_s: float = 4.889
-    # Proportional tracking gain of the joint speed commands [1/s] (``TrackingController``).
+    # Proportional tracking gain of the joint speed commands [1/s] (``SpeedServos.track``).
     tracking_gain_per_s: float = 32.18
     # Feed-forward: share of the planned (feedback-free) reference speed added to the
     # proportional tracking command (0: none, 1: all of it).

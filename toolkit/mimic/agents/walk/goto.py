@@ -2,7 +2,7 @@
 
 Far from the target the robot turns toward it and walks forward (slowing when the target is
 off to the side); near it, it strafes and turns onto the final heading with speeds
-proportional to the remaining error (plus a small integral term, since slow steps creep);
+proportional to the remaining error (the walk engine itself trims the creep of slow steps);
 inside the tolerance it stops. All errors use the torso pose averaged over the last gait
 period, since the torso sways and yaws with every step. ``arrived`` becomes True once the
 engine stands still within the tolerance; if the halt left it outside, it walks again (a
@@ -67,9 +67,10 @@ class GoToConfig:
     # Near the target: heading gain [1/s] and top turn rate [rad/s].
     near_heading_gain_per_s: float = 1.0
     near_max_yaw_rate_rad_s: float = 0.3
-    # Integral gain near the target [1/s^2] (at most ``max_integral_m_s``): the walk's small
-    # steps carry a bias (stepping in place creeps), which a proportional command cannot beat.
-    integral_gain_per_s2: float = 1.5
+    # Integral gain near the target [1/s^2] (at most ``max_integral_m_s``). Off: the walk
+    # engine's odometry feedback removes the creep of small steps, and an integral on top
+    # winds up while the robot turns in place and pushes it past the target (0: off).
+    integral_gain_per_s2: float = 0.0
     max_integral_m_s: float = 0.12
     # Smallest useful speed near the target (the walk quantises steps) [m/s].
     min_speed_m_s: float = 0.04
@@ -93,6 +94,9 @@ class GoToConfig:
     near_ball_tolerance_scale: float = 1.4
     # The integral term only works this close to the target [m] (no wind-up on the way in).
     integral_radius_m: float = 0.08
+    # Speed toward the goal point at most sqrt(2 * this * distance) [m/s^2]: a walking robot
+    # braked harder pitches forward over its feet (and the last steps overshoot).
+    max_decel_m_s2: float = 0.25
 
 
 class GoToPose(Agent):
@@ -206,12 +210,19 @@ class GoToPose(Agent):
         if self.engine.state == "standing":
             self._history = []  # standing still: the pose is exact
         fx, fy, dh = self._smoothed_errors(obs)
-        dist = math.hypot(fx, fy)
         # Next to the ball every extra correction risks touching it: settle for a little less.
         loose = 1.0
-        if cfg.avoid_ball and float(np.hypot(*(obs.ball_pos_m[:2] - obs.torso_pos_m[:2]))) \
-                < cfg.ball_slow_radius_m:
+        near_ball = cfg.avoid_ball and float(np.hypot(*(obs.ball_pos_m[:2]
+                                                        - obs.torso_pos_m[:2]))) \
+            < cfg.ball_slow_radius_m
+        if near_ball:
             loose = cfg.near_ball_tolerance_scale
+        elif self.engine.state != "standing":
+            # Steer the pose the robot will stand in once halted, not the walking one. Not
+            # next to the ball: there the torso must not get closer to it than the target,
+            # and the halt moving it back is the safe side.
+            fx -= self.engine.halt_shift_m
+        dist = math.hypot(fx, fy)
         inside = dist < loose * cfg.tolerance_m and abs(dh) < loose * cfg.tolerance_rad
         if self._stopping:
             if self.engine.state == "standing":
@@ -260,6 +271,10 @@ class GoToPose(Agent):
                 vx, vy = vx * scale, vy * scale
         vx = float(np.clip(vx, -0.5 * cfg.max_vx_m_s, cfg.max_vx_m_s))
         vy = float(np.clip(vy, -cfg.max_vy_m_s, cfg.max_vy_m_s))
+        if cfg.max_decel_m_s2:
+            brake = math.sqrt(2 * cfg.max_decel_m_s2 * dist)
+            scale = min(1.0, brake / max(math.hypot(vx, vy), 1e-9))
+            vx, vy = vx * scale, vy * scale
         if cfg.avoid_ball and way is None:
             # Short steps near the ball: a long stride's swing foot would reach it.
             near = float(np.hypot(*(obs.ball_pos_m[:2] - obs.torso_pos_m[:2])))
