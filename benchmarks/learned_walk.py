@@ -1,6 +1,6 @@
-"""Issue 6: learned copies of the other team's walk beside the original, over 15 m.
+"""Learned copies of the other team's walk beside the original, over 15 m.
 
-    /work/venv/bin/python benchmarks/learned_walk.py [--runs 8] [--seed 0] [--out DIR] [--reuse]
+    python benchmarks/learned_walk.py [--runs 8] [--seed 0] [--out DIR] [--reuse]
 
 Records the other team's walk as a black box (joint states only, whole gait periods at its
 steady speed, after ``--warmup`` s), trains the study's copy (``reached`` angles) and ours

@@ -41,6 +41,7 @@ import numpy as np
 from mimic.agents.base import Agent, JointCommand
 from mimic.geometry import yaw_from_quat
 from mimic.robot.joints import joint_index
+from mimic.robot.nao import nao
 from mimic.world.base import CYCLE_S, Observation
 
 __all__ = ["BalanceGains", "HeadingGains", "BalancedAgent", "torso_lean_rad", "torso_yaw_rad",
@@ -56,7 +57,7 @@ class BalanceGains:
     """Tilt feedback: reference shifts [rad] per rad of torso lean (and per rad/s of its rate).
 
     The defaults were chosen on seeded 15 m walks of the learned copy of the other team's walk
-    (``benchmarks/learned_walk.py``); the walk is sensitive to them (see the report of issue 6).
+    (``benchmarks/learned_walk.py``); the walk is sensitive to them (``docs/tuning-notes.md``).
     """
 
     # Support ankle pitch against a forward lean; swing hip pitch gets ``hip_share`` of it.
@@ -106,9 +107,9 @@ def torso_yaw_rad(obs: Observation) -> float:
 
 
 def foot_yaw_shift_rad(yaw_left_rad: float, yaw_right_rad: float) -> np.ndarray:
-    """(22,) reference shifts that yaw each foot relative to the torso by the given angles
+    """(N,) reference shifts that yaw each foot relative to the torso by the given angles
     [rad] (positive: toes turned left) with hip yaw-pitch plus the cancelling hip pitch."""
-    shift = np.zeros(22)
+    shift = nao().zeros()
     shift[joint_index("left_hip_yaw_pitch")] = -yaw_left_rad / _SIN45
     shift[joint_index("left_hip_pitch")] = -yaw_left_rad
     shift[joint_index("right_hip_yaw_pitch")] = yaw_right_rad / _SIN45
@@ -183,14 +184,14 @@ class BalancedAgent(Agent):
 
     # --- feedback -------------------------------------------------------------------------
     def tilt_correction_rad(self, obs: Observation) -> np.ndarray:
-        """(22,) reference shifts [rad] for the current lean (support ankle; swing hip and
+        """(N,) reference shifts [rad] for the current lean (support ankle; swing hip and
         ankle when ``swing_feedback``)."""
         g = self.gains
         forward, left = torso_lean_rad(obs)
         # The gyro's y axis is positive for pitching nose-down, its x axis for rolling right.
         d_pitch = g.pitch * (forward - g.lean_rad + g.pitch_rate_s * obs.gyro_rad_s[1])
         d_roll = g.roll * (left - g.roll_rate_s * obs.gyro_rad_s[0])
-        shift = np.zeros(22)
+        shift = nao().zeros()
         sup, swing = self._idx[self.support], self._idx[-self.support]
         shift[sup["ankle_pitch"]] = -d_pitch
         shift[sup["ankle_roll"]] = -d_roll
@@ -233,11 +234,11 @@ class BalancedAgent(Agent):
         return self._yaw_from[side] + s * (self._yaw_to[side] - self._yaw_from[side])
 
     def heading_correction_rad(self) -> np.ndarray:
-        """(22,) reference shifts [rad] of the current foot yaw plan."""
+        """(N,) reference shifts [rad] of the current foot yaw plan."""
         return foot_yaw_shift_rad(self._current_yaw(1.0), self._current_yaw(-1.0))
 
     def correction_rad(self, obs: Observation, reference_rad: np.ndarray) -> np.ndarray:
-        """(22,) reference shifts [rad] for the inner agent's (22,) references this cycle:
+        """(N,) reference shifts [rad] for the inner agent's (N,) references this cycle:
         tilt feedback plus heading (updates the support leg and step state)."""
         changed = self._update_support(reference_rad)
         shift = self.tilt_correction_rad(obs)

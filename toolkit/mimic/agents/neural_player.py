@@ -90,14 +90,14 @@ class NeuralPlayer(Agent):
         self.ended_flag = 0.0
 
     def reference_at(self, t_s: float) -> np.ndarray:
-        """(23,) network output at ``t_s`` [s] of playing (phase-scaled for cyclic models; no
+        """(N + 1,) network output at ``t_s`` [s] of playing (phase-scaled for cyclic models; no
         start-up blending)."""
         if self.model.cyclic:
             t_s = (t_s * self.speed_rate) % self.model.period_s
         return self.model.predict(t_s)
 
     def mean_pose_rad(self) -> np.ndarray:
-        """(22,) mean joint reference over one cycle of a cyclic model [rad]."""
+        """(N,) mean joint reference over one cycle of a cyclic model [rad]."""
         if self._mean_rad is None:
             t = np.arange(_MEAN_SAMPLES) * (self.model.period_s / _MEAN_SAMPLES)
             self._mean_rad = self.model.predict(t)[:, :self.model.num_joints].mean(axis=0)
@@ -112,7 +112,7 @@ class NeuralPlayer(Agent):
         return stance, 1.0 if self.start_ramp_s <= 0 else _smooth_step(walk_s / self.start_ramp_s)
 
     def cyclic_reference(self, t_s: float) -> np.ndarray:
-        """(23,) output of a cyclic model at ``t_s`` [s] since ``reset``, start-up included."""
+        """(N + 1,) output of a cyclic model at ``t_s`` [s] since ``reset``, start-up included."""
         stance, swing = self.start_weights(t_s)
         out = self.reference_at(max(0.0, t_s - self.stance_s))
         if stance >= 1.0 and swing >= 1.0:

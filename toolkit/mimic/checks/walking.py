@@ -81,7 +81,7 @@ class WalkResult:
     max_drift_m: float
     # Simulated time used [s].
     time_s: float
-    # (cycles, 22) observed joint angles [rad], one row per 20 ms cycle.
+    # (cycles, N) observed joint angles [rad], one row per 20 ms cycle.
     angles_rad: np.ndarray
 
 

@@ -1,4 +1,4 @@
-"""Natural cubic splines (C2) through keyframes, vectorised over the 22 joints."""
+"""Natural cubic splines (C2) through keyframes, vectorised over the joints."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""The other team's body layer: foot targets to 22 joint targets, targets to speed commands."""
+"""The other team's body layer: foot targets to the NAO's joint targets, targets to speed commands."""
 
 from __future__ import annotations
 
@@ -24,7 +24,7 @@ ARM_IDX = {s: np.array([joint_index(f"{n}_shoulder_pitch"), joint_index(f"{n}_sh
 
 def legs_to_joints(feet: dict[float, tuple[np.ndarray, np.ndarray]],
                    shoulder_pitch_rad: float, shoulder_roll_rad: float) -> np.ndarray:
-    """(22,) joint targets [rad] for foot poses {side: (ankle point (3,), rotation (3, 3))}.
+    """(N,) joint targets [rad] for foot poses {side: (ankle point (3,), rotation (3, 3))}.
 
     The poses are in the torso frame; the head is held straight and the arms still.
     """
@@ -38,7 +38,7 @@ def legs_to_joints(feet: dict[float, tuple[np.ndarray, np.ndarray]],
 
 def servo_speeds(target_next_rad: np.ndarray, angles_rad: np.ndarray,
                  servo: ServoParams, target_now_rad: np.ndarray | None = None) -> np.ndarray:
-    """(22,) speeds [rad/s] that close ``gain`` of the gap to next cycle's targets, capped.
+    """(N,) speeds [rad/s] that close ``gain`` of the gap to next cycle's targets, capped.
 
     With ``target_now_rad`` (this cycle's planned targets) the plan's own speed
     (target_next - target_now) / cycle is added, scaled by ``servo.feedforward``, so a moving

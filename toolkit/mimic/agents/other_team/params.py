@@ -1,16 +1,9 @@
 """The other team's parameter sets: their walk and their kick.
 
 The numbers come from short evolution-strategy searches on our simulator, the way that team
-optimises its own parameters. Walk: distance, speed, sideways drift and heading swing over
-12-15 m walks under speed-command noise (0.06-0.08 rad/s), with a heavy penalty for a fall;
-it walks ~0.46 m/s for the 0.546 m/s commanded (the feet slip a little) and stayed up in 20
-of 20 noisy 15 m walks. Commanding 0.62 m/s gives ~0.51 m/s but fell once in 20 and drifts
-more. A second search for speed (the command fixed at 0.62 m/s, heading authority
-``max_turn_rad`` free, 9 candidates x 6 noisy 15 m walks per generation) found sets walking
-0.49-0.52 m/s, but over 40 seeded walks they fall 5-10 % of the time against ~2.5 % for these
-numbers (1 fall in 40), and shorter steps (4-7 cycles) fell more: the knee and hip-pitch servos
-saturate at 6.14 rad/s in most cycles, so these numbers stay. Kick: ball distance plus
-staying upright.
+optimises its own parameters: the walk for distance, speed, drift and heading swing under
+speed-command noise with a heavy penalty for a fall; the kick for ball distance and staying
+upright. ``docs/tuning-notes.md`` keeps the search history and why faster sets were not kept.
 """
 
 from __future__ import annotations

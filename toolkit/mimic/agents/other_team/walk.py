@@ -127,7 +127,7 @@ class OtherTeamWalk(Agent):
         return legs_to_joints(self._feet(0.0, 1.0), p.shoulder_pitch_rad, p.shoulder_roll_rad)
 
     def targets_rad(self, obs: Observation) -> np.ndarray:
-        """(22,) joint targets [rad] for the end of this cycle (internal to the team)."""
+        """(N,) joint targets [rad] for the end of this cycle (internal to the team)."""
         p = self.params
         k = self._cycle + 1
         if k <= self._startup_cycles:

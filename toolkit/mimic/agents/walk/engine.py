@@ -271,7 +271,7 @@ class WalkEngine(Agent):
 
     # --- internals ------------------------------------------------------------------------
     def _walk_pose(self, feet: np.ndarray, lean_rad: float) -> np.ndarray:
-        """(22,) joint angles putting the feet (2, 4) of the walk frame under a leaning torso."""
+        """(N,) joint angles putting the feet (2, 4) of the walk frame under a leaning torso."""
         q = self._stand.copy()
         tilt = _rot_y(lean_rad).T
         for side in (0, 1):
@@ -352,7 +352,7 @@ class WalkEngine(Agent):
         return float(np.clip(1.0 - abs(self._step_base[0]) / fade, 0.0, 1.0)) if fade else 1.0
 
     def _reference(self, obs: Observation) -> tuple[np.ndarray, np.ndarray]:
-        """(nominal, reference) joint angles for the end of this cycle, (22,) each [rad]."""
+        """(nominal, reference) joint angles for the end of this cycle, (N,) each [rad]."""
         cfg = self.config
         if self._state == "standing":
             self.done = True

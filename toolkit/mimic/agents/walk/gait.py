@@ -34,11 +34,8 @@ __all__ = ["WalkConfig", "StepPlan", "nominal_foot", "plan_step", "feet_at"]
 class WalkConfig:
     """Walk engine parameters.
 
-    The defaults come from our own evolution-strategy search (a separable ES over ~30 of
-    these fields, scratch scripts under /work/scratch/walk/): noisy start poses, 12 s
-    straight at ~0.45 m/s, a 3 s curve, then stop(); the score was the speed, with heavy
-    penalties for a fall, a missed stop and sideways drift. Hand-set afterwards: the
-    stride scale (so the commanded speed is the walked one) and the caution threshold.
+    The defaults come from our own evolution-strategy search over ~30 of these fields, then a
+    few hand-set values (``docs/tuning-notes.md`` tells how).
     """
 
     # Duration of one step (half a gait cycle) [s]; rounded to whole 20 ms agent cycles.
