@@ -24,6 +24,7 @@ COMMAND_MODULES: tuple[str, ...] = (
     "pipeline",
     "train",
     "robots",
+    "play",
 )
 
 

@@ -80,21 +80,45 @@ def register(app: typer.Typer) -> None:
             show_default=False)] = None,
         model: Annotated[Path | None, typer.Option(
             help="Record a learned motion from a .mimic model file instead of NAME.")] = None,
-        robot: Annotated[str, typer.Option(help="Robot of shipped motions (mimic robots).")]
-        = "nao",
+        robot: Annotated[str | None, typer.Option(
+            help="Robot of shipped motions (mimic robots; default nao). --server: the "
+                 "player's robot (default: as the server shows it, else t1).")] = None,
+        server: Annotated[str | None, typer.Option(
+            help="Black-box: record a player of a league server (RCSSServerMJ) from its "
+                 "monitor port HOST:PORT.", rich_help_panel="League")] = None,
+        team: Annotated[str | None, typer.Option(
+            help="--server: the player's team.", rich_help_panel="League")] = None,
+        player: Annotated[int | None, typer.Option(
+            help="--server: the player's number.", rich_help_panel="League")] = None,
+        seconds: Annotated[float | None, typer.Option(
+            help="--server: seconds of server time to record (default: until Ctrl-C, the "
+                 "player leaves or the server stops).", rich_help_panel="League")] = None,
+        list_players: Annotated[bool, typer.Option(
+            "--list", help="--server: print the teams and players on the field.",
+            rich_help_panel="League")] = False,
+        wait: Annotated[float, typer.Option(
+            help="--server: seconds to wait for the player to join.",
+            rich_help_panel="League")] = 30.0,
     ) -> None:
-        """Run an agent in the simulator and record it as MCAP (Ctrl-C keeps what was made)."""
+        """Run an agent in the simulator and record it as MCAP (Ctrl-C keeps what was made).
+
+        With --server: record a league player from the server's monitor stream instead."""
         from mimic.errors import MimicError
         from mimic.recording.reader import describe_recording
         from mimic.recording.recorder import record as record_agent
 
+        if server is not None or list_players:
+            from mimic.cli.league import record_server
+
+            return record_server(server, out, team, player, seconds, robot, list_players,
+                                 wait, name if model is None else str(model))
         if out is None:
             raise MimicError("give the output file with -o FILE.mcap")
         if (name is None) == (model is None):
             raise MimicError("give an agent NAME or --model FILE.mimic (one of them)")
         from mimic.agents.registry import make_agent
 
-        agent = make_agent(str(model) if model is not None else name, robot=robot)
+        agent = make_agent(str(model) if model is not None else name, robot=robot or "nao")
         with Progress(TextColumn("recording"), BarColumn(),
                       TextColumn("{task.completed:.2f} s sim"), console=err_console,
                       transient=True) as bar:
@@ -138,16 +162,34 @@ def register(app: typer.Typer) -> None:
     @app.command("import")
     @reports_errors
     def import_(
-        paper_file: Annotated[Path, typer.Argument(help="A study '::' text file.")],
-        out: Annotated[Path, typer.Option("-o", "--out", help="Output .mcap file.")],
+        paper_file: Annotated[Path, typer.Argument(
+            help="A study '::' text file, or a league game log (rcssservermj --logfile).")],
+        out: Annotated[Path, typer.Option(
+            "-o", "--out", help="Output .mcap file (--all: a folder).")],
         topic: Annotated[str | None, typer.Option(
             help="/joint_references or /joint_states (default: by file name).")] = None,
         distance: Annotated[float | None, typer.Option(
             help="Kick family: which distance [m] to import.")] = None,
+        team: Annotated[str | None, typer.Option(
+            help="Game log: the player's team.", rich_help_panel="League")] = None,
+        player: Annotated[int | None, typer.Option(
+            help="Game log: the player's number.", rich_help_panel="League")] = None,
+        all_players: Annotated[bool, typer.Option(
+            "--all", help="Game log: one recording per player, TEAM_N.mcap in the -o folder.",
+            rich_help_panel="League")] = False,
+        robot: Annotated[str | None, typer.Option(
+            help="Game log: the player's robot (default: as the log shows it).",
+            rich_help_panel="League")] = None,
     ) -> None:
-        """Convert one of the study's joint tables into a recording in our layout."""
+        """Convert one of the study's joint tables, or players of a league game log, into
+        recordings in our layout."""
+        from mimic.league.game_log import is_game_log
         from mimic.recording.paper_import import import_paper_file
         from mimic.recording.reader import describe_recording
 
+        if is_game_log(paper_file) or team is not None or player is not None or all_players:
+            from mimic.cli.league import import_log
+
+            return import_log(paper_file, out, team, player, all_players, robot)
         import_paper_file(paper_file, out, topic=topic, distance_m=distance)
         print_recording_summary(describe_recording(out))

@@ -1,0 +1,73 @@
+"""RCSSServerMJ with a ground-truth monitor: ``python league_truth_server.py TRUTH.jsonl ARGS``.
+
+Runs the league server exactly as ``python -m rcsssmj ARGS`` does, with one more monitor inside
+the server process: at every frame the monitors see (every second cycle) it writes the true
+MuJoCo state of every robot as one JSON line: server time, each hinge's ``qpos`` and the pose
+its bodies are drawn at, and the torso pose. The bodies' poses (``xpos``) that frames carry are
+computed before the last physics substep's integration, so the pose a frame shows is the
+joint state one substep earlier, ``qpos - timestep * qvel`` (Euler and implicit integrators
+both advance positions with the new velocity): ``shown`` holds that, ``qpos`` the state at
+the frame's time. Tests compare what mimic decodes from the frames with both.
+"""
+
+from __future__ import annotations
+
+import json
+import sys
+
+from rcsssmj import __main__ as server_main
+from rcsssmj.games.soccer.server.soccer_server import SoccerSimServer
+from rcsssmj.server.remote_monitor import SimMonitor
+from rcsssmj.sim.state_info import SceneGraph
+
+
+class TruthMonitor(SimMonitor):
+    """Writes the true state of every robot at every monitor frame."""
+
+    def __init__(self, path: str) -> None:
+        super().__init__(update_interval=2)
+        self._file = open(path, "w", buffering=1)
+
+    def update(self, state_info, frame_id: int, last_recompilation: int) -> None:
+        if frame_id % self.update_interval != 0:
+            return
+        graph = next((s for s in state_info if isinstance(s, SceneGraph)), None)
+        if graph is None:
+            return
+        m, d = graph.mj_model, graph.mj_data
+        dt = float(m.opt.timestep)
+        players = {}
+        for agent in graph.sim_agents:
+            prefix = agent.agent_id.prefix
+            qpos, shown = {}, {}
+            for j in range(m.njnt):
+                name = m.joint(j).name
+                if name.startswith(prefix) and m.jnt_type[j] == 3:  # hinge
+                    q, v = float(d.qpos[m.jnt_qposadr[j]]), float(d.qvel[m.jnt_dofadr[j]])
+                    qpos[name[len(prefix):]] = q
+                    shown[name[len(prefix):]] = q - dt * v
+            torso = m.body(agent.root_body_name).id
+            players[f"{agent.team_name} {agent.agent_id.player_no}"] = {
+                "qpos": qpos, "shown": shown,
+                "torso": [*map(float, d.xpos[torso]), *map(float, d.xquat[torso])]}
+        self._file.write(json.dumps({"t": float(d.time), "players": players}) + "\n")
+
+    def shutdown(self) -> None:
+        super().shutdown()
+        self._file.close()
+
+
+def main() -> None:
+    truth_path = sys.argv.pop(1)
+    plain_init = SoccerSimServer.__init__
+
+    def init(self, *args, **kwargs) -> None:
+        plain_init(self, *args, **kwargs)
+        self._monitors.append(TruthMonitor(truth_path))
+
+    SoccerSimServer.__init__ = init
+    server_main.soccer_sim()
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,146 @@
+"""Any mimic agent as an ordinary team process on a league server.
+
+``play`` connects one player (``LeagueWorld``) and runs the agent in the episode layer's loop:
+perceptions in, joint references out with the robot's PD gains, every cycle. On a server of
+its own (no address given) it first puts the robot on the field as ``mimic record`` does
+(standing 1 m behind the centre spot, or lying for a get-up) and lets it settle; on someone
+else's server it plays from wherever the robot is, as a team process does.
+
+With an output file it records what the player knew: ``/joint_references`` (our agents),
+``/joint_states`` (the angles it perceived), ``/ended``, the robot's URDF and metadata (world
+``league``). Ctrl-C or a server that stops end the run with the file finished.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from mimic import __version__
+from mimic.agents.base import Agent
+from mimic.episode import Observer, Scene, run
+from mimic.league.errors import LeagueConnectionError, LeagueError
+from mimic.league.sigint import SigintFlag
+from mimic.league.world import LeagueWorld, LeagueWorldConfig
+from mimic.recording import layout as L
+from mimic.recording.writer import RecordingWriter
+from mimic.world.base import CYCLE_S
+
+__all__ = ["play", "PlayResult", "PlayRecorder", "MAX_PLAY_S"]
+
+#: How long an agent that never says it is done plays without ``seconds`` [s].
+MAX_PLAY_S = 60.0
+#: Where a hosted server's robot starts (field frame) [m].
+HOSTED_START_XY_M = (-1.0, 0.0)
+_NS_PER_CYCLE = int(round(CYCLE_S * L.NS_PER_S))
+
+
+@dataclass(frozen=True)
+class PlayResult:
+    """How a game ended: ``end`` is ``done`` (the agent finished), ``timeout`` (``seconds``
+    ran out), ``interrupted`` (Ctrl-C) or ``server stopped``; ``path`` is the recording."""
+
+    end: str
+    cycles: int
+    duration_s: float
+    path: Path | None
+
+    @property
+    def interrupted(self) -> bool:
+        return self.end in ("interrupted", "server stopped")
+
+
+class PlayRecorder(Observer):
+    """Writes what the player perceived and commanded every cycle."""
+
+    def __init__(self, writer: RecordingWriter) -> None:
+        self.writer = writer
+        self.samples, self.t_last_s = 0, 0.0
+        self._t0_cycles: int | None = None
+
+    def before_step(self, world, obs, agent, command) -> None:
+        cycle = int(round(obs.time_s / CYCLE_S))
+        self._t0_cycles = cycle if self._t0_cycles is None else self._t0_cycles
+        t_ns = (cycle - self._t0_cycles) * _NS_PER_CYCLE
+        self.writer.write_joints(t_ns, obs.joint_angles_rad, obs.joint_speeds_rad_s)
+        if agent.reference_rad is not None:
+            self.writer.write_joints(t_ns, agent.reference_rad, topic=L.JOINT_REFERENCES)
+        self.writer.write_ended(t_ns, bool(agent.done))
+        self.samples, self.t_last_s = self.samples + 1, t_ns / L.NS_PER_S
+
+
+def play(agent: str | Agent, *, robot: str = "t1", agent_address: str | None = None,
+         team: str = "mimic", player: int = 1, seconds: float | None = None,
+         out_path: str | Path | None = None,
+         progress: Callable[[float, float | None], None] | None = None,
+         settle_s: float = 0.5) -> PlayResult:
+    """Play ``agent`` (a spec for ``make_agent`` or an Agent) as ``team`` #``player``.
+
+    Args:
+        robot: the robot the player is (the agent must drive it).
+        agent_address: ``HOST:PORT`` of a server's agent port (None: host one).
+        seconds: how long to play [s] (None: until the agent is done, at most ``MAX_PLAY_S``).
+        out_path: record to this ``.mcap`` file (None: no recording).
+        settle_s: hosted server: how long the placed robot holds its start pose [s].
+
+    Raises:
+        LeagueConnectionError: nothing listens at ``agent_address`` (before anything ran).
+        MimicError: an agent made for another robot, a bad spec, bad options.
+    """
+    if isinstance(agent, str):
+        from mimic.agents.registry import make_agent
+
+        agent = make_agent(agent, robot=robot)
+    if seconds is not None and not seconds > 0:
+        raise LeagueError(f"--seconds must be > 0, got {seconds}")
+    from mimic.robot.registry import get_robot
+
+    agent.check_robot(get_robot(robot))
+    config = LeagueWorldConfig(team=team, player=player)
+    with SigintFlag() as sigint, LeagueWorld(robot, agent_address=agent_address,
+                                             config=config) as world:
+        if world.server is not None:
+            Scene(robot_xy_m=HOSTED_START_XY_M, posture=agent.start_posture,
+                  settle_s=settle_s).setup(world, np.random.default_rng(0))
+        writer = None if out_path is None else RecordingWriter(
+            out_path, _info(agent, world, agent_address), urdf=world.robot.urdf())
+        recorder = None if writer is None else PlayRecorder(writer)
+        planned_s = seconds
+        watchers: list[Observer] = [] if recorder is None else [recorder]
+        if progress is not None:
+            watchers.append(_Progress(progress, planned_s))
+        end, cycles = "error", 0
+        try:
+            outcome = run(world, agent, max_s=seconds or MAX_PLAY_S, observers=watchers,
+                          stop=lambda w: sigint.raised, stop_when_done=seconds is None)
+            end = {"stop": "interrupted"}.get(outcome.end, outcome.end)
+            cycles = outcome.cycles
+        except LeagueConnectionError:
+            end = "server stopped"  # keep what was recorded
+        finally:
+            if writer is not None:
+                writer.finish(interrupted=end not in ("done", "timeout", "fell"),
+                              samples=recorder.samples, end=end)
+        duration = recorder.t_last_s if recorder is not None else cycles * CYCLE_S
+        return PlayResult(end, cycles, duration, None if out_path is None else Path(out_path))
+
+
+def _info(agent: Agent, world: LeagueWorld, agent_address: str | None) -> L.RecordingInfo:
+    return L.RecordingInfo(
+        motion=agent.name, agent=type(agent).__name__, team=world.team,
+        source="reference" if agent.team == "mimic" else "observed", robot=world.robot.name,
+        world="league", joint_order=world.robot.joint_names, toolkit_version=__version__,
+        period_s=agent.period_s, start_posture=agent.start_posture,
+        extra={"player": str(world.player), "server": agent_address or "hosted"})
+
+
+class _Progress(Observer):
+    def __init__(self, progress, planned_s) -> None:
+        self.progress, self.planned_s, self._t0 = progress, planned_s, None
+
+    def after_step(self, world) -> None:
+        self._t0 = world.time_s if self._t0 is None else self._t0
+        self.progress(world.time_s - self._t0, self.planned_s)
