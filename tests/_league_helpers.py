@@ -121,16 +121,18 @@ def kick_sweep() -> SweepAgent:
 
 
 def errors_against_truth(times_s: np.ndarray, angles: np.ndarray, torso_m: np.ndarray | None,
-                         truth: dict[float, dict]) -> dict[str, np.ndarray]:
-    """Absolute errors of decoded samples against the truth at the same server times.
+                         truth: dict[float, dict], lag_s: float) -> dict[str, np.ndarray]:
+    """Absolute errors of decoded samples against the truth.
 
-    Returns ``shown`` and ``qpos`` ((S, N) joint errors [rad] against the pose the frame
-    shows and against the state at the frame's time) and ``torso`` ((S,) [m]).
+    ``times_s``: the samples' times, ``lag_s`` before the frames that carried them. Returns
+    ``shown`` ((S, N) joint errors [rad] against the true state at each sample's time, which
+    is the pose its frame shows), ``qpos`` (against the state at the frame's time stamp,
+    ``lag_s`` later) and ``torso`` ((S,) [m]).
     """
     shown, qpos, torso = [], [], []
     for t, q, p in zip(times_s, angles, torso_m if torso_m is not None else [None] * len(
             times_s)):
-        state = truth[round(float(t), 2)]
+        state = truth[round(float(t) + lag_s, 2)]
         shown.append(np.abs(q - [state["shown"][n] for n in T1.joint_names]))
         qpos.append(np.abs(q - [state["qpos"][n] for n in T1.joint_names]))
         if p is not None:

@@ -4,10 +4,11 @@ Runs the league server exactly as ``python -m rcsssmj ARGS`` does, with one more
 the server process: at every frame the monitors see (every second cycle) it writes the true
 MuJoCo state of every robot as one JSON line: server time, each hinge's ``qpos`` and the pose
 its bodies are drawn at, and the torso pose. The bodies' poses (``xpos``) that frames carry are
-computed before the last physics substep's integration, so the pose a frame shows is the
-joint state one substep earlier, ``qpos - timestep * qvel`` (Euler and implicit integrators
-both advance positions with the new velocity): ``shown`` holds that, ``qpos`` the state at
-the frame's time. Tests compare what mimic decodes from the frames with both.
+computed before the last physics step's integration, so the pose a frame shows is the joint
+state one step earlier, ``qpos - timestep * qvel`` (Euler and implicit integrators both
+advance positions with the new velocity): ``shown`` holds that true state one step before the
+frame's time, ``qpos`` the state at the frame's time. Tests compare what mimic decodes with
+both.
 """
 
 from __future__ import annotations

@@ -8,10 +8,12 @@ under it. Afterwards ``mimic import`` reads the server's game log of the same ga
 recordings must match the truth: every joint within 0.01 rad on average and 0.03 rad at
 worst, the torso within 1 cm.
 
-"Truth" is the pose the frame shows: the server computes body poses before the last physics
-substep's integration, so a frame at time t shows the joints at ``qpos - dt * qvel``
-(dt = 5 ms). Against ``qpos`` at t the error adds that lag (printed, not asserted: it is the
-server's, up to dt times the joint speed).
+Time: the server draws a frame stamped t from body poses computed before the cycle's last
+physics step integrated the joints, so a frame shows the true state at t - dt (dt = 5 ms,
+the league world's step; ``qpos - dt * qvel`` by the integrator, exactly). mimic stamps each
+sample with that instant, so the check compares every sample with the true ``qpos`` at its
+own time. Against ``qpos`` at the frame's stamp the error adds the 5 ms of motion (printed,
+not asserted: up to dt times the joint speed).
 """
 
 from __future__ import annotations
@@ -41,6 +43,7 @@ from mimic.motion.files import list_motions
 from mimic.recording import layout as L
 from mimic.recording.reader import read_joint_table, read_recording, read_tf
 from mimic.robot.actuators import JointCommand
+from mimic.world.league_field import league_air
 
 TEAM, PLAYER = "decoders", 4
 MEAN_RAD, MAX_RAD, TORSO_M = 0.01, 0.03, 0.01
@@ -111,15 +114,16 @@ def _errors(path, truth):
     angles = table.select(T1.joint_names).to_numpy()
     torso = read_tf(rec)[T1.root_link]
     assert len(torso.times_ns) == len(times)
-    return errors_against_truth(times, angles, torso.pos_m, truth), rec
+    return errors_against_truth(times, angles, torso.pos_m, truth,
+                                league_air().timestep_s), rec
 
 
 def _report(name, err) -> None:
     shown, qpos = err["shown"], err["qpos"]
-    print(f"\n{name}: {len(shown)} samples; vs shown pose: mean {shown.mean():.4f} max "
-          f"{shown.max():.4f} rad (worst joint mean {shown.mean(0).max():.4f}); vs qpos: "
-          f"mean {qpos.mean():.4f} max {qpos.max():.4f} rad; torso max "
-          f"{err['torso'].max() * 1000:.1f} mm")
+    print(f"\n{name}: {len(shown)} samples; vs true qpos at the sample's time: mean "
+          f"{shown.mean():.4f} max {shown.max():.4f} rad (worst joint mean "
+          f"{shown.mean(0).max():.4f}); vs qpos at the frame's stamp: mean {qpos.mean():.4f} "
+          f"max {qpos.max():.4f} rad; torso max {err['torso'].max() * 1000:.1f} mm")
 
 
 @pytest.mark.parametrize("which", ["live", "imported"])

@@ -43,11 +43,11 @@ def test_messages_are_length_prefixed_and_arrive_whole():
         assert right.receive(timeout_s=0.01) is None
         a.sendall(b")")
         assert right.receive_available() == [b"(syn)"]
-        left.close()
+        left.close(linger_s=0.0)
         with pytest.raises(LeagueConnectionError, match="closed the connection"):
             right.receive()
     finally:
-        right.close()
+        right.close(linger_s=0.0)
 
 
 def test_addresses():

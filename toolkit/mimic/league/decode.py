@@ -7,6 +7,11 @@ For a hinge joining a parent link and a child link, that relative rotation is
 rotation left after undoing ``R(q0)``, measured about the axis. The torso's transform is its
 pose in the field.
 
+When: the server computes body poses before the last physics step of a cycle integrates the
+joints, so a frame stamped t shows the robot as it was one physics step earlier (t - 5 ms;
+the step is the league world's ``timestep``). ``PlayerSample.time_s`` is that instant, so each
+sample's angles are the joints' state at its own time.
+
 Which node is which body: a body node lists its shapes first, then its child bodies in the
 MJCF's body order, so a link with k child links finds them in its node's last k children.
 Every child body's offset from its parent is fixed by the robot's description (hinges do not
@@ -26,6 +31,7 @@ import numpy as np
 from mimic.league.errors import LeagueError
 from mimic.league.rsmp import SceneNode, SceneState, slt_matrix
 from mimic.robot.model import RobotDescription
+from mimic.world.league_field import league_air
 
 __all__ = ["PlayerDecoder", "PlayerSample", "robot_for_model", "check_model",
            "OFFSET_TOLERANCE_M"]
@@ -40,7 +46,7 @@ class PlayerSample:
     """One robot's pose in one monitor frame (N joints, B links in the robot's order).
 
     Attributes:
-        time_s: server time of the frame [s].
+        time_s: server time of the pose [s] (the frame's time stamp minus one physics step).
         joint_angles_rad: (N,) joint angles [rad].
         link_pos_m: (B, 3) each link's origin in its parent link (the root: in the field) [m].
         link_quat_wxyz: (B, 4) each link's orientation in its parent (the root: in the field).
@@ -84,10 +90,13 @@ class PlayerDecoder:
 
     Args:
         robot: the robot's description (links in body order, joints with axes).
+        pose_lag_s: how long before a frame's time stamp its poses were taken [s] (default:
+            one physics step of the league world).
     """
 
-    def __init__(self, robot: RobotDescription) -> None:
+    def __init__(self, robot: RobotDescription, pose_lag_s: float | None = None) -> None:
         self.robot = robot
+        self.pose_lag_s = league_air().timestep_s if pose_lag_s is None else pose_lag_s
         links = robot.links
         index = {link.name: i for i, link in enumerate(links)}
         #: child link indices of each link, in body order
@@ -101,8 +110,8 @@ class PlayerDecoder:
         self._axes = np.array([j.axis for j in robot.joints], dtype=float)
 
     def decode(self, dsc: SceneNode, time_s: float) -> PlayerSample | None:
-        """The pose under an agent's DSC node; None if the nodes do not fit the robot (the
-        frame after a teleport)."""
+        """The pose under an agent's DSC node in a frame stamped ``time_s`` [s]; None if the
+        nodes do not fit the robot (the frame after a teleport)."""
         if len(dsc.children) != 1:
             return None
         nodes: list[SceneNode | None] = [None] * len(self.robot.links)
@@ -121,7 +130,7 @@ class PlayerDecoder:
         rots = mats[:, :3, :3]
         angles = self._angles(rots)
         quats = np.array([_quat(r) for r in rots])
-        return PlayerSample(time_s, angles, mats[:, :3, 3].copy(), quats)
+        return PlayerSample(time_s - self.pose_lag_s, angles, mats[:, :3, 3].copy(), quats)
 
     def _angles(self, rots: np.ndarray) -> np.ndarray:
         r = np.einsum("nij,njk->nik", self._rest_inv, rots[self._joint_link])  # (N, 3, 3)
