@@ -156,9 +156,11 @@ def record_player(monitor_address: str, out_path: str | Path, team: str, player:
         finally:
             if out is not None:
                 out.finish(interrupted=reason != "done", reason=reason)
-        if out is None:
-            raise PlayerNotFoundError(f"{who} never showed a pose that decodes as a "
-                                      f"{decoder.robot.name.upper()} ({reason})")
+        if out is None:  # nothing written, no file
+            if reason.startswith("interrupted"):
+                raise KeyboardInterrupt
+            raise LeagueError(f"{reason} before {who} showed a whole "
+                              f"{decoder.robot.name.upper()} pose: nothing recorded")
         return BlackBoxResult(out.path, decoder.robot.name, team, player, out.samples,
                               out.duration_s, reason != "done", reason,
                               state.skipped - skipped_before)
