@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import signal
 import subprocess
+import threading
 import time
 
 import numpy as np
@@ -17,7 +18,7 @@ from _league_helpers import T1, mimic_command
 from typer.testing import CliRunner
 
 from mimic.cli.main import app
-from mimic.league.blackbox import list_players
+from mimic.league.blackbox import list_players, record_player
 from mimic.league.server import LeagueServer, ServerConfig, free_port
 from mimic.recording import layout as L
 from mimic.recording.reader import read_joint_table, read_recording
@@ -154,11 +155,19 @@ def test_play_on_a_server_of_its_own(tmp_path):
     assert np.abs(seen.select(T1.joint_names).to_numpy()[-1] - T1.stand_pose()).max() < 0.1
 
 
-def test_ctrl_c_ends_a_team_process_with_its_file_finished(match):
-    """Runs last: stops the match's player."""
+def test_ctrl_c_ends_a_team_process_with_its_file_finished(match, tmp_path):
+    """Runs last: stops the match's player (and a recording of it ends as it leaves)."""
+    results = []
+    recorder = threading.Thread(target=lambda: results.append(record_player(
+        match["server"].monitor_address, tmp_path / "last.mcap", TEAM, PLAYER)))
+    recorder.start()
+    time.sleep(0.5)
     player = match["player"]
     player.send_signal(signal.SIGINT)
     _, stderr = player.communicate(timeout=30)
+    recorder.join(timeout=30)
+    assert results and results[0].reason == f"{TEAM} #{PLAYER} left the field"
+    assert not results[0].interrupted and results[0].samples > 5
     assert player.returncode == 130, stderr
     assert "interrupted" in stderr and "Traceback" not in stderr
     rec = read_recording(match["played"])

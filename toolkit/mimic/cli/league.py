@@ -21,7 +21,8 @@ def _report(result) -> None:
     if result.frames_skipped:
         what += f" ({result.frames_skipped} frames skipped)"
     if not result.interrupted:
-        console.print(what, highlight=False)
+        ended = "" if result.reason in ("done", "end of log") else f" ({result.reason})"
+        console.print(what + ended, highlight=False)
         return
     if result.reason.startswith("interrupted"):
         err_console.print(f"interrupted: saved {what}", highlight=False)

@@ -3,9 +3,9 @@
 As in the study (which watched SimSpark's monitor), nothing of the team's code is read: the
 monitor shows every body of every robot, ``decode`` turns one player's bodies back into its
 joint angles, and ``PlayerWriter`` writes them in our layout. Works on a server running a match
-in real time or in sync mode; waits for the player to appear. Ctrl-C, the player leaving or the
-server stopping end the recording with the file finished (and saying why); a crash of mimic
-loses at most ``FLUSH_PERIOD_S``.
+in real time or in sync mode; waits for the player to appear. The player leaving ends a recording
+normally; Ctrl-C or the server stopping end it early, the file finished and saying so; a crash
+of mimic loses at most ``FLUSH_PERIOD_S``.
 """
 
 from __future__ import annotations
@@ -47,8 +47,9 @@ class BlackBoxResult:
 
     Attributes:
         path: the file; robot: the robot's registry name; samples: poses written;
-        duration_s: recorded time [s]; interrupted: it stopped early (Ctrl-C, server gone,
-        player gone; the file is complete up to there); reason: why it ended;
+        duration_s: recorded time [s]; interrupted: it stopped early (Ctrl-C, the server
+        gone; the file is complete up to there); reason: why it ended (``done``, ``TEAM #N
+        left the field``, ``the server stopped``, ...);
         frames_skipped: frames that did not decode (teleports, frames before the first full).
     """
 
@@ -155,15 +156,20 @@ def record_player(monitor_address: str, out_path: str | Path, team: str, player:
                 reason = "interrupted (Ctrl-C)"
         finally:
             if out is not None:
-                out.finish(interrupted=reason != "done", reason=reason)
+                out.finish(interrupted=not _normal_end(reason), reason=reason)
         if out is None:  # nothing written, no file
             if reason.startswith("interrupted"):
                 raise KeyboardInterrupt
             raise LeagueError(f"{reason} before {who} showed a whole "
                               f"{decoder.robot.name.upper()} pose: nothing recorded")
         return BlackBoxResult(out.path, decoder.robot.name, team, player, out.samples,
-                              out.duration_s, reason != "done", reason,
+                              out.duration_s, not _normal_end(reason), reason,
                               state.skipped - skipped_before)
+
+
+def _normal_end(reason: str) -> bool:
+    """The recording ran its course: its time was up, or the player left (a game's end)."""
+    return reason == "done" or reason.endswith("left the field")
 
 
 def _await_player(monitor: MonitorClient, team: str, player: int, wait_s: float,
