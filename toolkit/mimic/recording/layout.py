@@ -10,9 +10,13 @@ A recording holds ROS 2 messages (CDR) so that Rerun and Foxglove open it as it 
 | ``/tf`` | tf2_msgs/msg/TFMessage | the robot's link tree (``world`` -> ``torso`` -> ... , as in the URDF) and ``world`` -> ``ball`` |
 | ``/robot_description`` | std_msgs/msg/String | the URDF twin, once at t = 0 |
 
-Times are integer nanoseconds from the start of the recording, both as MCAP log times and
-in the message headers. The metadata record ``mimic`` (written first) says what the recording
-is; ``mimic.end`` (written when the file is finished) says how it ended.
+Times are integer nanoseconds. MCAP log times and message header stamps are wall-clock times
+(Unix epoch): the moment the recording started (``start_wall_time_ns`` in the ``mimic``
+record) plus the simulated time since then, so viewers show the date it was made. Older
+files (no ``start_wall_time_ns``) have log times from 0; readers handle both and give times
+from the first sample. The metadata record ``mimic`` (written first) says what the
+recording is; ``mimic.end`` (written when the file is finished) says how it ended, with
+``last_time_ns`` in simulated time.
 """
 
 from __future__ import annotations
@@ -25,7 +29,7 @@ from mimic.robot.joints import JOINT_NAMES
 __all__ = [
     "JOINT_STATES", "JOINT_REFERENCES", "ENDED", "TF", "ROBOT_DESCRIPTION", "JOINT_TOPICS",
     "WORLD_FRAME", "BALL_FRAME", "METADATA_NAME", "END_METADATA_NAME", "ROBOT_MODEL",
-    "RecordingInfo", "SCHEMAS", "NS_PER_S",
+    "RecordingInfo", "SCHEMAS", "NS_PER_S", "START_WALL_TIME_KEY",
 ]
 
 JOINT_STATES = "/joint_states"
@@ -45,6 +49,8 @@ END_METADATA_NAME = "mimic.end"
 #: Robot model written into the metadata (the simulator's NAO, robot type 0).
 ROBOT_MODEL = "nao_type0"
 NS_PER_S = 1_000_000_000
+#: Key in the ``mimic`` record: wall-clock time of simulated time 0 [ns since the Unix epoch].
+START_WALL_TIME_KEY = "start_wall_time_ns"
 
 
 @dataclass(frozen=True)
