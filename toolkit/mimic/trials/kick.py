@@ -142,7 +142,7 @@ def run_kick_episode(kick: AgentSpec, seed: int, config: KickTrialConfig = KickT
             kick=len(rows), time_s=start_t, distance_m=distance,
             success=distance > SUCCESS_DISTANCE_M,
             direction_error_deg=math.degrees(_direction_error_rad(start_xy, end_xy)),
-            goal=world.goal_scored(), ball_out=world.ball_out(),
+            goal=bool(world.goal_scored()), ball_out=bool(world.ball_out()),
             fell=falls.falls > falls_before,
             ball_start_x_m=float(start_xy[0]), ball_start_y_m=float(start_xy[1]),
             ball_end_x_m=float(end_xy[0]), ball_end_y_m=float(end_xy[1]),
