@@ -10,7 +10,7 @@ import typer
 from rich.progress import BarColumn, Progress, TextColumn
 from rich.table import Table
 
-from mimic.cli.common import console, err_console, reports_errors
+from mimic.cli.common import FORCE, console, err_console, reports_errors, warn
 
 __all__ = ["register", "print_recording_summary"]
 
@@ -19,12 +19,16 @@ def print_recording_summary(summary: dict) -> None:
     """Print ``describe_recording``'s dict as a table (also used by other info commands)."""
     table = Table(title=summary["path"], show_header=False, title_justify="left")
     cyclic = summary.get("cyclic")
+    version, rate = summary.get("toolkit_version"), summary.get("rate_hz")
     rows = [("motion", summary.get("motion")), ("agent", summary.get("agent")),
             ("team", summary.get("team")), ("source", summary.get("source")),
-            ("cyclic", f"yes, period {summary['period_s']:g} s" if cyclic else "no"),
+            ("cyclic", None if cyclic is None else
+             f"yes, period {summary['period_s']:g} s" if cyclic else "no"),
             ("duration", f"{summary['duration_s']:.2f} s"),
-            ("rate", f"{summary['rate_hz']:.1f} Hz"), ("seed", summary.get("seed")),
-            ("written by", f"mimic {summary.get('toolkit_version')}"),
+            ("rate", f"{rate:.1f} Hz" if rate else "- (no joint topic)"),
+            ("seed", summary.get("seed")),
+            ("written by", f"mimic {version}" if version else "- (no mimic metadata)"),
+            ("started", summary.get("started_at")),
             ("state", "interrupted" if summary["interrupted"] else "complete"),
             ("recovery", summary["recovery"])]
     for key, value in rows:
@@ -32,6 +36,8 @@ def print_recording_summary(summary: dict) -> None:
     for topic, t in summary["topics"].items():
         table.add_row(topic, f"{t['messages']} messages ({t['schema']})")
     console.print(table)
+    for warning in summary.get("warnings", []):
+        warn(warning)
 
 
 def print_model_summary(summary: dict) -> None:
@@ -68,19 +74,22 @@ def register(app: typer.Typer) -> None:
                  "other-team-kick.")] = None,
         out: Annotated[Path, typer.Option("-o", "--out", help="Output .mcap file.")] = None,
         duration: Annotated[Optional[float], typer.Option(
-            "--duration", help="Seconds to record (default: until the motion ends; cyclic "
-                               "agents: 10 periods).")] = None,
-        seed: Annotated[int, typer.Option(help="Simulation seed.")] = 0,
+            "--duration", help="Seconds to record, > 0 (default: until the motion ends; "
+                               "cyclic agents: 10 periods).")] = None,
+        seed: Annotated[int, typer.Option(help="Simulation seed (0 .. 2**32-1).")] = 0,
         observe_only: Annotated[bool, typer.Option(
             "--observe-only", help="Record only reached joint angles, no references.")] = False,
         warmup: Annotated[Optional[float], typer.Option(
-            help="Cyclic agents: seconds run before recording (default 4: past the start-up).",
-            show_default=False)] = None,
+            help="Cyclic agents: seconds run before recording, >= 0 (default 4: past the "
+                 "start-up).", show_default=False)] = None,
         model: Annotated[Optional[Path], typer.Option(
             help="Record a learned motion from a .mimic model file instead of NAME.")] = None,
+        force: Annotated[bool, FORCE] = False,
     ) -> None:
         """Run an agent in the simulator and record it as MCAP (Ctrl-C keeps what was made)."""
+        from mimic import options
         from mimic.errors import MimicError
+        from mimic.files import check_output
         from mimic.recording.reader import describe_recording
         from mimic.recording.recorder import record as record_agent
 
@@ -88,12 +97,18 @@ def register(app: typer.Typer) -> None:
             raise MimicError("give the output file with -o FILE.mcap")
         if (name is None) == (model is None):
             raise MimicError("give an agent NAME or --model FILE.mimic (one of them)")
+        options.finite(duration, "--duration", above=0)
+        options.finite(warmup, "--warmup", at_least=0)
+        options.seed(seed)
         if model is not None:
             from mimic.agents.registry import agent_from_model
 
             agent = agent_from_model(model)
         else:
-            agent = name
+            from mimic.agents.registry import make_agent
+
+            agent = make_agent(name)
+        check_output(out, force=force)
         with Progress(TextColumn("recording"), BarColumn(),
                       TextColumn("{task.completed:.2f} s sim"), console=err_console,
                       transient=True) as bar:
@@ -118,10 +133,10 @@ def register(app: typer.Typer) -> None:
         as_json: Annotated[bool, typer.Option("--json", help="Print JSON.")] = False,
     ) -> None:
         """Describe a recording (topics, duration, rate, completeness) or a learned model."""
-        from mimic.learn.model_file import describe_model, is_model_file
+        from mimic.learn.model_file import describe_model, looks_like_model_file
         from mimic.recording.reader import describe_recording
 
-        if is_model_file(file):
+        if looks_like_model_file(file):
             summary = describe_model(file)
             if as_json:
                 console.print_json(json.dumps(summary))
@@ -143,10 +158,15 @@ def register(app: typer.Typer) -> None:
             help="/joint_references or /joint_states (default: by file name).")] = None,
         distance: Annotated[Optional[float], typer.Option(
             help="Kick family: which distance [m] to import.")] = None,
+        force: Annotated[bool, FORCE] = False,
     ) -> None:
         """Convert one of the study's joint tables into a recording in our layout."""
+        from mimic import options
+        from mimic.files import check_output
         from mimic.recording.paper_import import import_paper_file
         from mimic.recording.reader import describe_recording
 
-        import_paper_file(paper_file, out, topic=topic, distance_m=distance)
+        options.finite(distance, "--distance", at_least=0)
+        check_output(out, force=force)
+        import_paper_file(paper_file, out, topic=topic, distance_m=distance, overwrite=force)
         print_recording_summary(describe_recording(out))
