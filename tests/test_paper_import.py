@@ -12,7 +12,7 @@ from mimic.recording.paper_import import (PAPER_SIGNS, PAPER_TO_CANONICAL, defau
 from mimic.recording.reader import read_joint_table, read_recording
 from mimic.robot.joints import JOINT_NAMES, lower_limits_rad, mirror_angles, upper_limits_rad
 
-PAPER = Path(__file__).resolve().parents[2] / "shared" / "paper-data"
+from _learn_helpers import PAPER_DATA as PAPER  # noqa: E402
 
 
 def _paper(name: str) -> Path:
