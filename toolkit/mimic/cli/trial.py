@@ -116,12 +116,12 @@ _CI_SHOWN = {"accuracy_pct": ("accuracy_pct", "range"),
              "mean_y_error_m": ("mean_y_error_m", "half"),
              "falls": ("fall_rate_pct", "range %")}
 _LEGEND = {
-    "kick": "Second line: 95 % confidence interval (accuracy: Wilson; distance: t, +- half "
-            "width). ok: kicks farther than 2 m. stuck: episodes that ended because the robot "
-            "could not reach the ball in time or could not line up with it. Ratios: against "
-            "the first variant.",
-    "walk": "Second line: 95 % confidence interval (means: t, +- half width; falls: Wilson "
-            "interval of the share of runs that fell). Ratios: against the first variant.",
+    "kick": "95% CI: 95 % confidence interval of the accuracy (Wilson) and of the mean distance "
+            "(t, +- half width). ok: kicks farther than 2 m. stuck: episodes that ended because "
+            "the robot could not reach the ball in time or could not line up with it. Ratios: "
+            "against the first variant.",
+    "walk": "95% CI: 95 % confidence interval of the means (t, +- half width) and of the share "
+            "of runs that fell (Wilson). Ratios: against the first variant.",
 }
 
 
