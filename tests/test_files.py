@@ -51,7 +51,10 @@ def test_check_output_refuses_existing_files_and_folders(tmp_path):
     with pytest.raises(OutputError, match="is a directory"):
         check_output(tmp_path, force=True)
     check_output(tmp_path / "new" / "dir" / "y.rrd")
-    assert (tmp_path / "new" / "dir").is_dir()
+    assert not (tmp_path / "new").exists(), "a check creates nothing"
+    (tmp_path / "file").write_text("in the way")
+    with pytest.raises(OutputError, match="cannot create the folder"):
+        check_output(tmp_path / "file" / "sub" / "y.rrd")
     with pytest.raises(OutputError, match="given for two outputs"):
         check_outputs([tmp_path / "a.csv", None, tmp_path / "." / "a.csv"])
 

@@ -11,7 +11,8 @@ Outputs:
   A failed command removes its temporary file: it never leaves a stub and never destroys a
   good file. A killed command may leave its ``.partial-`` file behind; a killed recording's
   partial file reads like any truncated recording (``mimic info`` shows what it holds).
-* Parent folders are created.
+* Parent folders are created when the file is written (``check_output`` only checks that
+  they can be).
 """
 
 from __future__ import annotations
@@ -57,7 +58,8 @@ def input_file(path: str | Path, what: str = "file", hint: str = "") -> Path:
 
 
 def check_output(path: str | Path, *, force: bool = False, flag: str = "--force") -> Path:
-    """Before the work: ``path`` can be written. Creates its parent folder.
+    """Before the work: ``path`` can be written (its folder exists or can be created; nothing
+    is created yet).
 
     Raises:
         OutputError: ``path`` is a folder, exists and ``force`` is False, or its folder cannot
@@ -68,9 +70,14 @@ def check_output(path: str | Path, *, force: bool = False, flag: str = "--force"
         raise OutputError(f"{path}: is a directory; give a file name for the output")
     if path.exists() and not force:
         raise OutputError(f"{path} exists; pass {flag} to replace it, or choose another name")
-    _make_parent(path)
-    if not os.access(path.parent, os.W_OK):
-        raise OutputError(f"{path}: cannot write in {path.parent} (permission denied)")
+    existing = Path(os.path.abspath(path)).parent
+    while not existing.exists():
+        existing = existing.parent
+    if not existing.is_dir():
+        raise OutputError(f"{path}: cannot create the folder {path.parent} ({existing} is a "
+                          "file)")
+    if not os.access(existing, os.W_OK | os.X_OK):
+        raise OutputError(f"{path}: cannot write in {existing} (permission denied)")
     return path
 
 
