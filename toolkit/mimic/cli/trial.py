@@ -13,7 +13,7 @@ from rich import box
 from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 from rich.table import Column, Table
 
-from mimic.cli.common import FORCE, SAVE, SAVE_OLD, console, reports_errors, save_path
+from mimic.cli.common import FORCE, SAVE_OLD, console, reports_errors, save_path
 from mimic.errors import MimicError
 
 trial_app = typer.Typer(help="Run the kick and walk trials (original and learned side by side).",
