@@ -13,7 +13,7 @@ from typer.testing import CliRunner
 from mimic.cli.main import app
 from mimic.recording.reader import read_joint_table, read_recording
 
-PAPER = Path(__file__).resolve().parents[2] / "shared" / "paper-data"
+from _learn_helpers import PAPER_DATA as PAPER  # noqa: E402
 runner = CliRunner()
 
 
@@ -68,13 +68,18 @@ def test_ctrl_c_leaves_a_valid_file(tmp_path):
     proc = subprocess.Popen(cmd + ["record", "stand", "-o", str(out), "--duration", "600"],
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     deadline = time.monotonic() + 60
-    while time.monotonic() < deadline and (not out.exists() or out.stat().st_size < 20_000):
+
+    def written() -> int:  # the recording is written under a temporary name until it ends
+        return sum(p.stat().st_size for p in tmp_path.glob("long.partial-*.mcap"))
+
+    while time.monotonic() < deadline and written() < 20_000:
         time.sleep(0.1)  # wait until the recording is under way (a few chunks written)
     time.sleep(1.0)
     proc.send_signal(signal.SIGINT)
     _, stderr = proc.communicate(timeout=60)
     assert proc.returncode == 130, stderr
     assert "interrupted" in stderr and "Traceback" not in stderr
+    assert not list(tmp_path.glob("*.partial-*")), "moved into place"
     rec = read_recording(out)
     assert rec.recovery.complete and rec.interrupted
     table = read_joint_table(rec)

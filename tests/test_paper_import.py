@@ -17,7 +17,8 @@ from mimic.recording.paper_import import (
 from mimic.recording.reader import read_joint_table, read_recording
 from mimic.robot.registry import get_robot
 
-PAPER = Path(__file__).resolve().parents[2] / "shared" / "paper-data"
+from _learn_helpers import PAPER_DATA as PAPER  # noqa: E402
+
 NAO = get_robot("nao")  # the study's files are NAO data
 JOINT_NAMES = NAO.joint_names
 

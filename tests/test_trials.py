@@ -81,6 +81,36 @@ def test_printed_table_keeps_every_number_whole_in_80_columns(kick_result):
     assert max(len(line) for line in text.splitlines()) <= 80
 
 
+def test_kick_rows_flags_are_booleans_and_the_table_has_intervals(kick_result):
+    from mimic.trials.stats import mean_interval, wilson_interval
+    rows = kick_result.rows
+    for flag in ("goal", "ball_out", "success", "fell"):
+        assert rows[flag].dtype == pl.Boolean, flag
+    assert pl.read_parquet(kick_result.files[0])["goal"].dtype == pl.Boolean
+    row = kick_result.summary.row(0, named=True)
+    low, high = wilson_interval(row["successful"], row["attempts"])
+    assert (row["accuracy_pct_ci_low"], row["accuracy_pct_ci_high"]) == (100 * low, 100 * high)
+    assert row["accuracy_pct_ci_low"] <= row["accuracy_pct"] <= row["accuracy_pct_ci_high"]
+    interval = mean_interval(rows["distance_m"].to_numpy())
+    assert (row["mean_distance_m_ci_low"], row["mean_distance_m_ci_high"]) == interval
+    meta = json.loads(pq.read_schema(kick_result.files[0]).metadata[b"mimic"])
+    (saved,) = meta["summary"]
+    assert saved["accuracy_pct_ci_high"] == row["accuracy_pct_ci_high"]
+    assert "Wilson" in meta["confidence"]
+
+
+def test_printed_table_shows_intervals_and_explains_stuck(kick_result):
+    from mimic.cli import trial as cli_trial
+    with cli_trial.console.capture() as captured:
+        cli_trial._print(kick_result, "kick trial")
+    text = captured.get()
+    row = kick_result.summary.row(0, named=True)
+    assert f"{row['accuracy_pct_ci_low']:.0f}-{row['accuracy_pct_ci_high']:.0f}" in text
+    assert "95% CI" in text and "Wilson" in text
+    assert "stuck: episodes that ended because the robot could not reach the ball" in \
+        " ".join(text.split())
+
+
 def test_dashboard_replays_the_first_episode_in_3d(kick_result, tmp_path, rerun_cli):
     trace = kick_result.traces["kick_right"]
     # The trace is the episode as it happened: time runs forward, the ball left the centre spot.
@@ -115,6 +145,9 @@ def test_three_run_walk_trial_measures_speed_and_drift():
     # A run that ended in a fall counts that fall; the summary adds every run's falls.
     assert (runs.filter(pl.col("fell"))["falls"] >= 1).all()
     assert result.summary["falls"][0] == runs["falls"].sum()
+    row = result.summary.row(0, named=True)
+    assert row["mean_speed_m_s_ci_low"] <= row["mean_speed_m_s"] <= row["mean_speed_m_s_ci_high"]
+    assert 0.0 <= row["fall_rate_pct_ci_low"] <= row["fall_rate_pct"] <= row["fall_rate_pct_ci_high"]
 
 
 def test_unknown_variant_is_one_clear_line():

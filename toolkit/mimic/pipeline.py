@@ -20,7 +20,8 @@ from mimic.recording.recorder import record
 from mimic.trials.api import TrialResult, kick_trial, walk_trial
 from mimic.trials.report import STUDY_KICK, STUDY_WALK
 
-__all__ = ["PaperResult", "record_and_train", "train_and_save", "demo", "reproduce_paper", "network_summary"]
+__all__ = ["PaperResult", "record_and_train", "train_and_save", "demo", "reproduce_paper",
+           "network_summary", "demo_outputs", "paper_outputs"]
 
 Say = Callable[[str], None]
 
@@ -58,6 +59,22 @@ def train_and_save(mcap: Path, model_path: Path, *, topic: str | None = None,
     say(f"training on {mcap}" + (f" {topic} ({target} angles)" if topic else ""))
     model = train_model(training_dataset(mcap, topic, target), TrainConfig(seed=seed))
     return save_model(model, model_path), model.metrics
+
+
+def demo_outputs(out_dir: Path) -> list[Path]:
+    """The files ``demo`` writes into ``out_dir``."""
+    from mimic.trials.api import trial_files
+    return [out_dir / "kick_right.mcap", out_dir / "kick_right.mimic",
+            *trial_files(out_dir / "kick_trial.parquet")]
+
+
+def paper_outputs(out_dir: Path) -> list[Path]:
+    """The files ``reproduce_paper`` writes into ``out_dir``."""
+    from mimic.trials.api import trial_files
+    return [out_dir / "kick_right.mcap", out_dir / "kick_right.mimic",
+            out_dir / "kick_right_observed.mimic", out_dir / "other_team_walk.mcap",
+            out_dir / "other_team_walk.mimic", *trial_files(out_dir / "kick_trial.parquet"),
+            *trial_files(out_dir / "walk_trial.parquet")]
 
 
 def demo(out_dir: Path = Path("out/demo"), *, minutes: float = 2.0, seed: int = 0,

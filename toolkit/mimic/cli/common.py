@@ -1,10 +1,12 @@
-"""What every command shares: turning toolkit errors into one line and an exit code."""
+"""What every command shares: one error line and an exit code, warnings, and the options every
+command that writes files has (``--force``, ``--save``)."""
 
 from __future__ import annotations
 
 import functools
 import sys
 from collections.abc import Callable
+from pathlib import Path
 from typing import TypeVar
 
 import typer
@@ -12,11 +14,27 @@ from rich.console import Console
 
 from mimic.errors import MimicError
 
-__all__ = ["console", "err_console", "reports_errors", "fail"]
+__all__ = ["console", "err_console", "reports_errors", "fail", "warn", "FORCE", "SAVE",
+           "SAVE_OLD", "save_path"]
 
 console = Console()
 err_console = Console(stderr=True)
 F = TypeVar("F", bound=Callable)
+
+#: ``--force``: the one way to replace an existing output file (see ``mimic.files``).
+FORCE = typer.Option("--force", help="Replace output files that exist (default: refuse).")
+#: ``--save FILE.rrd``: write a Rerun view to a file (the same name in every command).
+SAVE = typer.Option("--save", help="Write the Rerun view to this .rrd file.",
+                    show_default=False)
+#: The old name of ``--save`` in ``train`` and ``trial``, kept working but not shown.
+SAVE_OLD = typer.Option("--save-rrd", hidden=True)
+
+
+def save_path(save: Path | None, save_old: Path | None) -> Path | None:
+    """``--save`` or its old name ``--save-rrd`` (not both)."""
+    if save is not None and save_old is not None:
+        raise MimicError("give --save only (--save-rrd is its old name)")
+    return save if save is not None else save_old
 
 
 def fail(message: str, code: int = 2) -> None:
@@ -25,9 +43,15 @@ def fail(message: str, code: int = 2) -> None:
     raise typer.Exit(code)
 
 
+def warn(message: str) -> None:
+    """Print ``warning: message`` on stderr (the command goes on)."""
+    err_console.print(f"[bold yellow]warning:[/] {message}", highlight=False, soft_wrap=True)
+
+
 def reports_errors(func: F) -> F:
-    """Decorator for commands: a ``MimicError`` becomes one clear line and a non-zero exit;
-    Ctrl-C exits with 130 after whatever cleanup the library did (files are closed)."""
+    """Decorator for commands: a ``MimicError`` becomes one clear line and a non-zero exit, and
+    so does an error of the file system (disk full, permission denied); Ctrl-C exits with 130
+    after whatever cleanup the library did (files are closed, unfinished outputs removed)."""
 
     @functools.wraps(func)
     def wrapper(*args, **kwargs):
@@ -35,6 +59,9 @@ def reports_errors(func: F) -> F:
             return func(*args, **kwargs)
         except MimicError as err:
             fail(str(err), err.exit_code)
+        except OSError as err:
+            where = f"{err.filename}: " if err.filename else ""
+            fail(f"{where}{err.strerror or err}", 1)
         except KeyboardInterrupt:
             err_console.print("interrupted", highlight=False)
             sys.stderr.flush()

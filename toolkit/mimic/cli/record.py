@@ -10,7 +10,7 @@ import typer
 from rich.progress import BarColumn, Progress, TextColumn
 from rich.table import Table
 
-from mimic.cli.common import console, err_console, reports_errors
+from mimic.cli.common import FORCE, console, err_console, reports_errors, warn
 
 __all__ = ["register", "print_recording_summary"]
 
@@ -19,13 +19,17 @@ def print_recording_summary(summary: dict) -> None:
     """Print ``describe_recording``'s dict as a table (also used by other info commands)."""
     table = Table(title=summary["path"], show_header=False, title_justify="left")
     cyclic = summary.get("cyclic")
+    version, rate = summary.get("toolkit_version"), summary.get("rate_hz")
     rows = [("motion", summary.get("motion")), ("robot", summary.get("robot")),
             ("agent", summary.get("agent")),
             ("team", summary.get("team")), ("source", summary.get("source")),
-            ("cyclic", f"yes, period {summary['period_s']:g} s" if cyclic else "no"),
+            ("cyclic", None if cyclic is None else
+             f"yes, period {summary['period_s']:g} s" if cyclic else "no"),
             ("duration", f"{summary['duration_s']:.2f} s"),
-            ("rate", f"{summary['rate_hz']:.1f} Hz"), ("seed", summary.get("seed")),
-            ("written by", f"mimic {summary.get('toolkit_version')}"),
+            ("rate", f"{rate:.1f} Hz" if rate else "- (no joint topic)"),
+            ("seed", summary.get("seed")),
+            ("written by", f"mimic {version}" if version else "- (no mimic metadata)"),
+            ("started", summary.get("started_at")),
             ("state", "interrupted" if summary["interrupted"] else "complete"),
             ("recovery", summary["recovery"])]
     for key, value in rows:
@@ -33,6 +37,8 @@ def print_recording_summary(summary: dict) -> None:
     for topic, t in summary["topics"].items():
         table.add_row(topic, f"{t['messages']} messages ({t['schema']})")
     console.print(table)
+    for warning in summary.get("warnings", []):
+        warn(warning)
 
 
 def print_model_summary(summary: dict) -> None:
@@ -70,19 +76,20 @@ def register(app: typer.Typer) -> None:
                  "balance layer).")] = None,
         out: Annotated[Path, typer.Option("-o", "--out", help="Output .mcap file.")] = None,
         duration: Annotated[float | None, typer.Option(
-            "--duration", help="Seconds to record (default: until the motion ends; cyclic "
-                               "agents: 10 periods).")] = None,
-        seed: Annotated[int, typer.Option(help="Simulation seed.")] = 0,
+            "--duration", help="Seconds to record, > 0 (default: until the motion ends; "
+                               "cyclic agents: 10 periods).")] = None,
+        seed: Annotated[int, typer.Option(help="Simulation seed (0 .. 2**32-1).")] = 0,
         observe_only: Annotated[bool, typer.Option(
             "--observe-only", help="Record only reached joint angles, no references.")] = False,
         warmup: Annotated[float | None, typer.Option(
-            help="Cyclic agents: seconds run before recording (default 4: past the start-up).",
-            show_default=False)] = None,
+            help="Cyclic agents: seconds run before recording, >= 0 (default 4: past the "
+                 "start-up).", show_default=False)] = None,
         model: Annotated[Path | None, typer.Option(
             help="Record a learned motion from a .mimic model file instead of NAME.")] = None,
         robot: Annotated[str | None, typer.Option(
             help="Robot of shipped motions (mimic robots; default nao). --server: the "
                  "player's robot (default: as the server shows it, else t1).")] = None,
+        force: Annotated[bool, FORCE] = False,
         server: Annotated[str | None, typer.Option(
             help="Black-box: record a player of a league server (RCSSServerMJ) from its "
                  "monitor port HOST:PORT.", rich_help_panel="League")] = None,
@@ -103,22 +110,31 @@ def register(app: typer.Typer) -> None:
         """Run an agent in the simulator and record it as MCAP (Ctrl-C keeps what was made).
 
         With --server: record a league player from the server's monitor stream instead."""
+        from mimic import options
         from mimic.errors import MimicError
+        from mimic.files import check_output
         from mimic.recording.reader import describe_recording
         from mimic.recording.recorder import record as record_agent
 
         if server is not None or list_players:
             from mimic.cli.league import record_server
 
+            options.finite(seconds, "--seconds", above=0)
+            if out is not None and not list_players:
+                check_output(out, force=force)
             return record_server(server, out, team, player, seconds, robot, list_players,
                                  wait, name if model is None else str(model))
         if out is None:
             raise MimicError("give the output file with -o FILE.mcap")
         if (name is None) == (model is None):
             raise MimicError("give an agent NAME or --model FILE.mimic (one of them)")
+        options.finite(duration, "--duration", above=0)
+        options.finite(warmup, "--warmup", at_least=0)
+        options.seed(seed)
         from mimic.agents.registry import make_agent
 
         agent = make_agent(str(model) if model is not None else name, robot=robot or "nao")
+        check_output(out, force=force)
         with Progress(TextColumn("recording"), BarColumn(),
                       TextColumn("{task.completed:.2f} s sim"), console=err_console,
                       transient=True) as bar:
@@ -143,10 +159,10 @@ def register(app: typer.Typer) -> None:
         as_json: Annotated[bool, typer.Option("--json", help="Print JSON.")] = False,
     ) -> None:
         """Describe a recording (topics, duration, rate, completeness) or a learned model."""
-        from mimic.learn.model_file import describe_model, is_model_file
+        from mimic.learn.model_file import describe_model, looks_like_model_file
         from mimic.recording.reader import describe_recording
 
-        if is_model_file(file):
+        if looks_like_model_file(file):
             summary = describe_model(file)
             if as_json:
                 console.print_json(json.dumps(summary))
@@ -180,9 +196,12 @@ def register(app: typer.Typer) -> None:
         robot: Annotated[str | None, typer.Option(
             help="Game log: the player's robot (default: as the log shows it).",
             rich_help_panel="League")] = None,
+        force: Annotated[bool, FORCE] = False,
     ) -> None:
         """Convert one of the study's joint tables, or players of a league game log, into
         recordings in our layout."""
+        from mimic import options
+        from mimic.files import check_output
         from mimic.league.game_log import is_game_log
         from mimic.recording.paper_import import import_paper_file
         from mimic.recording.reader import describe_recording
@@ -190,6 +209,10 @@ def register(app: typer.Typer) -> None:
         if is_game_log(paper_file) or team is not None or player is not None or all_players:
             from mimic.cli.league import import_log
 
+            if not all_players:
+                check_output(out, force=force)
             return import_log(paper_file, out, team, player, all_players, robot)
-        import_paper_file(paper_file, out, topic=topic, distance_m=distance)
+        options.finite(distance, "--distance", at_least=0)
+        check_output(out, force=force)
+        import_paper_file(paper_file, out, topic=topic, distance_m=distance, overwrite=force)
         print_recording_summary(describe_recording(out))

@@ -9,7 +9,8 @@ import typer
 from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 from rich.table import Table
 
-from mimic.cli.common import console, err_console, reports_errors
+from mimic.cli.common import FORCE, SAVE, SAVE_OLD, console, err_console, reports_errors, \
+    save_path, warn
 
 __all__ = ["register", "bench_app"]
 
@@ -48,83 +49,112 @@ def register(app: typer.Typer) -> None:
                                           "folder when several inputs are given.")],
         preset: Annotated[str, typer.Option(help="paper (the study's setup) or fast.")] = "fast",
         epochs: Annotated[int | None, typer.Option(help="Total epochs (schedule scaled).")] = None,
-        seed: Annotated[int, typer.Option(help="Seed of the initial weights.")] = 0,
+        seed: Annotated[int, typer.Option(help="Seed of the initial weights (0 .. 2**32-1).")] = 0,
         topic: Annotated[str | None, typer.Option(
             help="/joint_references or /joint_states (default: references when present).")] = None,
         target: Annotated[str | None, typer.Option(
             help="reached or compensated (default: compensated for /joint_states).")] = None,
+        strict: Annotated[bool, typer.Option(
+            "--strict", help="Refuse input that may hold only part of a motion (an interrupted "
+                             "or truncated recording, a motion that never ends).")] = False,
         rerun: Annotated[bool, typer.Option("--rerun", help="Stream loss curves to Rerun.")] = False,
-        save_rrd: Annotated[Path | None, typer.Option(
-            "--save-rrd", help="Write the loss curves to this .rrd file.")] = None,
+        save: Annotated[Path | None, SAVE] = None,
+        save_old: Annotated[Path | None, SAVE_OLD] = None,
+        force: Annotated[bool, FORCE] = False,
     ) -> None:
         """Learn motions as neural networks (one model per input)."""
-        from mimic.errors import MimicError
+        from mimic.errors import DatasetError, MimicError
+        from mimic.files import check_outputs
+        from mimic.learn.checks import fit_warnings, input_warnings
         from mimic.learn.model_file import SUFFIX, save_model
         from mimic.learn.presets import get_preset
         from mimic.learn.train import TrainConfig, train_models, training_dataset
 
+        save = save_path(save, save_old)
         try:
             config = TrainConfig(get_preset(preset), seed=seed, epochs=epochs)
         except ValueError as err:
             raise MimicError(str(err)) from None
-        if epochs is not None and epochs < 1:
-            raise MimicError(f"--epochs must be at least 1, got {epochs}")
         several = len(inputs) > 1
         if several and out.suffix == SUFFIX:
             raise MimicError(f"{len(inputs)} inputs: -o must be a folder (one model each), "
                              f"not {out}")
         datasets = [training_dataset(p, topic, target) for p in inputs]
+        for warning in (w for d in datasets for w in input_warnings(d)):
+            if strict:
+                raise DatasetError(f"{warning} (--strict refuses such input)")
+            warn(f"{warning}, or pass --strict to refuse such input")
         paths = [out / f"{p.stem}{SUFFIX}" for p in inputs] if several else [out]
+        check_outputs([*paths, save], force=force)
         curves = None
-        if rerun or save_rrd is not None:
+        if rerun or save is not None:
             from mimic.viz.training import TrainingCurves
 
-            curves = TrainingCurves(spawn=rerun, save_rrd=save_rrd)
+            curves = TrainingCurves(spawn=rerun, save_rrd=save, overwrite=force)
         total = config.schedule().epochs
-        with Progress(TextColumn("training {task.description}"), BarColumn(),
-                      TextColumn("{task.completed}/{task.total} epochs"),
-                      TextColumn("loss {task.fields[loss]:.2e}  MAE {task.fields[mae]:.4f} rad"),
-                      TimeElapsedColumn(), console=err_console, transient=True) as bar:
-            task = bar.add_task(", ".join(d.name for d in datasets), total=total,
-                                loss=float("nan"), mae=float("nan"))
+        try:
+            with Progress(TextColumn("training {task.description}"), BarColumn(),
+                          TextColumn("{task.completed}/{task.total} epochs"),
+                          TextColumn("loss {task.fields[loss]:.2e}  MAE {task.fields[mae]:.4f} rad"),
+                          TimeElapsedColumn(), console=err_console, transient=True) as bar:
+                task = bar.add_task(", ".join(d.name for d in datasets), total=total,
+                                    loss=float("nan"), mae=float("nan"))
 
-            def progress(p) -> None:
-                bar.update(task, completed=p.epoch, description=", ".join(p.names),
-                           loss=float(p.loss.max()), mae=float(p.mae_rad.max()))
-                if curves is not None:
-                    curves(p)
+                def progress(p) -> None:
+                    bar.update(task, completed=p.epoch, description=", ".join(p.names),
+                               loss=float(p.loss.max()), mae=float(p.mae_rad.max()))
+                    if curves is not None:
+                        curves(p)
 
-            models = train_models(datasets, config, progress)
+                models = train_models(datasets, config, progress)
+        except BaseException:
+            if curves is not None:
+                curves.discard()
+            raise
         if curves is not None:
             curves.close()
         for model, path in zip(models, paths):
-            save_model(model, path)
+            save_model(model, path, overwrite=force)
         console.print(_metrics_table(models))
         for path in paths:
             console.print(f"wrote {path}", highlight=False)
+        if save is not None:
+            console.print(f"wrote {save}", highlight=False)
+        for model, dataset in zip(models, datasets):
+            for warning in fit_warnings(model, dataset):
+                warn(warning)
 
     @app.command()
     @reports_errors
     def export(
         model: Annotated[Path, typer.Argument(help="Model file (.mimic).")],
-        onnx: Annotated[Path, typer.Option("--onnx", help="Output ONNX file.")],
+        onnx: Annotated[Path, typer.Option("--onnx", "-o", "--out", help="Output ONNX file.")],
+        force: Annotated[bool, FORCE] = False,
     ) -> None:
         """Export a model as ONNX (input: time in seconds; output: the robot's joint angles +
         the ended flag)."""
+        from mimic.files import check_output
         from mimic.learn.export import export_onnx
         from mimic.learn.model_file import load_model
 
-        path = export_onnx(load_model(model), onnx)
+        loaded = load_model(model)
+        check_output(onnx, force=force)
+        path = export_onnx(loaded, onnx, overwrite=force)
         console.print(f"wrote {path} ({path.stat().st_size} bytes)", highlight=False)
 
     @bench_app.command("train")
+    @reports_errors
     def bench_train(
         baseline_epochs: Annotated[int, typer.Option(
             help="Epochs of the torch baseline (extrapolated to 50000).")] = 2000,
         batch: Annotated[int, typer.Option(help="Motions trained batched vs in sequence.")] = 8,
     ) -> None:
         """Training speed: numpy trainer vs the straightforward torch loop; batched vs sequential."""
+        from mimic import options
         from mimic.learn.bench import bench_train as run
+
+        options.count(baseline_epochs, "--baseline-epochs")
+        options.count(batch, "--batch")
 
         for line in run(baseline_epochs=baseline_epochs, batch_k=batch).lines():
             console.print(line, highlight=False)

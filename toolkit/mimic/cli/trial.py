@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import math
+import time
 from dataclasses import replace
 from pathlib import Path
 from typing import Annotated
@@ -9,9 +11,9 @@ from typing import Annotated
 import typer
 from rich import box
 from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
-from rich.table import Table
+from rich.table import Column, Table
 
-from mimic.cli.common import console, reports_errors
+from mimic.cli.common import FORCE, SAVE_OLD, console, reports_errors, save_path
 from mimic.errors import MimicError
 
 trial_app = typer.Typer(help="Run the kick and walk trials (original and learned side by side).",
@@ -24,20 +26,23 @@ _COMPARE = typer.Option("--compare", "-c", help="Compare the variants given (the
                         "with ratios); reads as: --compare kick_right models/kick_right.mimic.")
 _MOTION = typer.Option("--motion", help="One keyframe motion or agent name to try.")
 _MODEL = typer.Option("--model", help="One learned model (.mimic) to try.")
-_SAVE_RRD = typer.Option(help="Save a Rerun dashboard (.rrd): curves, histogram, episode "
-                         "markers, the first episode of each variant in 3D.")
 _RERUN = typer.Option("--rerun", help="Open the same dashboard in a Rerun viewer.")
+_SAVE_HELP = ("Save a Rerun dashboard (.rrd): curves, histogram, episode markers, the first "
+              "episode of each variant in 3D.")
+_WORKERS = typer.Option(help="Worker processes, >= 1 (default: all cores).", show_default=False)
+_SEED = typer.Option(help="Seed (0 .. 2**32-1); the same seed gives the same table.")
+
+#: Without a terminal (a pipe, a log file), a progress line is printed at most this often [s].
+PLAIN_PROGRESS_EVERY_S = 5.0
 
 
 def _specs(variants, compare, motion, model, balance, speed_rate, default):
     from mimic.agents.registry import agent_spec
     names = list(variants or []) + [n for n in (motion, model) if n]
+    specs = [agent_spec(n, speed_rate=speed_rate) for n in names or [default]]
     if compare and len(names) < 2:
         raise MimicError("--compare needs at least two variants, e.g. "
                          "--compare kick_right models/kick_right.mimic")
-    if not names:
-        names = [default]
-    specs = [agent_spec(n, speed_rate=speed_rate) for n in names]
     # --balance wraps every learned motion; keyframe motions and agents stay as they are.
     specs = [replace(s, balance=True) if balance and s.kind == "model" else s for s in specs]
     for spec in specs:  # every variant can run, before the first one does
@@ -45,26 +50,56 @@ def _specs(variants, compare, motion, model, balance, speed_rate, default):
     return specs
 
 
-def _progress_bar(total_min: float | None, total_runs: int | None):
-    progress = Progress(TextColumn("[bold]{task.description}"), BarColumn(),
-                        TextColumn("{task.fields[status]}"), TimeElapsedColumn(), console=console)
-    tasks: dict[str, int] = {}
+class TrialProgress:
+    """Progress of each variant: a live line per variant on a terminal; elsewhere (a pipe, a
+    log) a plain line at most every ``PLAIN_PROGRESS_EVERY_S`` and the last one at the end.
 
-    def update(label: str, batch) -> None:
-        if label not in tasks:
-            tasks[label] = progress.add_task(label, total=total_min or total_runs, status="")
-        eps = batch.episodes
-        if total_min:
-            done = batch.simulated_s / 60
-            status = (f"{done:.1f}/{total_min:g} sim min, kicks {len(batch.rows)}, "
-                      f"goals {sum(e.get('goals', 0) for e in eps)}, "
-                      f"falls {sum(e.get('falls', 0) for e in eps)}")
-        else:
-            done = len(eps)
-            status = f"{done}/{total_runs} runs, falls {sum(e.get('falls', 0) for e in eps)}"
-        progress.update(tasks[label], completed=min(done, total_min or total_runs), status=status)
+    Call it as the trials' ``progress(label, batch)``; use it as a context manager.
+    """
 
-    return progress, update
+    def __init__(self, minutes: float | None, runs: int | None) -> None:
+        self.minutes, self.runs = minutes, runs
+        self.live = console.is_terminal
+        self._tasks: dict[str, int] = {}
+        self._last: dict[str, str] = {}
+        self._printed: dict[str, str] = {}
+        self._printed_at = -math.inf
+        self._bar = Progress(
+            TextColumn("[bold]{task.description}", table_column=Column(overflow="fold",
+                                                                       max_width=28)),
+            BarColumn(bar_width=8),
+            TextColumn("{task.fields[status]}", table_column=Column(no_wrap=True)),
+            TimeElapsedColumn(), console=console)
+
+    def __enter__(self) -> "TrialProgress":
+        return self
+
+    def __exit__(self, *exc) -> None:
+        if self.live:
+            self._bar.stop()
+        elif exc[0] is None:
+            for label, line in self._last.items():
+                if self._printed.get(label) != line:
+                    console.print(f"{label}: {line}", highlight=False, soft_wrap=True)
+
+    def __call__(self, label: str, batch) -> None:
+        from mimic.trials.report import progress_status
+        status = progress_status(batch, self.minutes, self.runs)
+        self._last[label] = status
+        if self.live:
+            if not self._bar.live.is_started:
+                self._bar.start()
+            if label not in self._tasks:
+                self._tasks[label] = self._bar.add_task(label, total=self.minutes or self.runs,
+                                                        status="")
+            done = batch.simulated_s / 60 if self.minutes else len(batch.episodes)
+            self._bar.update(self._tasks[label], completed=min(done, self.minutes or self.runs),
+                             status=status)
+            return
+        now = time.monotonic()
+        if now - self._printed_at >= PLAIN_PROGRESS_EVERY_S:
+            console.print(f"{label}: {status}", highlight=False, soft_wrap=True)
+            self._printed[label], self._printed_at = status, now
 
 
 #: Columns of the printed table (all columns go to the files), with short headers.
@@ -77,35 +112,80 @@ _SHOWN = {
              "std_speed_m_s": "std", "mean_y_error_m": "Y err m", "std_y_error_m": "std",
              "falls": "falls", "mean_speed_m_s_ratio": "speed ratio"},
 }
+#: Shown column -> (column whose 95 % interval goes under it, how: a range in % or +- half).
+_CI_SHOWN = {"accuracy_pct": ("accuracy_pct", "range"),
+             "mean_distance_m": ("mean_distance_m", "half"),
+             "mean_speed_m_s": ("mean_speed_m_s", "half"),
+             "mean_y_error_m": ("mean_y_error_m", "half"),
+             "falls": ("fall_rate_pct", "range %")}
+_LEGEND = {
+    "kick": "95% CI: 95 % confidence interval of the accuracy (Wilson) and of the mean distance "
+            "(t, +- half width). ok: kicks farther than 2 m. stuck: episodes that ended because "
+            "the robot could not reach the ball in time or could not line up with it. Ratios: "
+            "against the first variant.",
+    "walk": "95% CI: 95 % confidence interval of the means (t, +- half width) and of the share "
+            "of runs that fell (Wilson). Ratios: against the first variant.",
+}
+
+
+def _ci_text(row: dict, column: str, how: str) -> str:
+    low, high = row.get(column + "_ci_low"), row.get(column + "_ci_high")
+    if low is None or high is None or not (math.isfinite(low) and math.isfinite(high)):
+        return ""
+    if how.startswith("range"):
+        return f"{low:.0f}-{high:.0f}" + ("%" if how.endswith("%") else "")
+    return f"±{(high - low) / 2:.2g}"
+
+
+def _number(column: str, value) -> str:
+    if not isinstance(value, float):
+        return str(value)
+    return f"{value:.2f}" if column.endswith("_ratio") else f"{value:.3g}"
 
 
 def _print(result, title: str) -> None:
     shown = {c: h for c, h in _SHOWN[result.kind].items() if c in result.summary.columns}
-    rows = [[f"{row[c]:.3g}" if isinstance(row[c], float) else str(row[c]) for c in shown]
-            for row in result.summary.iter_rows(named=True)]
-    # Headers on two lines and no vertical rules: a whole kick table fits in 80 columns.
-    table = Table(title=title, box=box.SIMPLE_HEAD, pad_edge=False, padding=(0, 1, 0, 0))
+    # Headers on two lines, no vertical rules, no edges: a whole kick table, confidence
+    # intervals included, fits in 80 columns.
+    table = Table(title=title, box=box.SIMPLE_HEAD, pad_edge=False, padding=(0, 1, 0, 0),
+                  show_edge=False)
     for c, header in shown.items():
-        table.add_column(header.replace(" ", "\n"), justify="left" if c == "variant" else "right")
-    for r in rows:
-        table.add_row(*r)
+        table.add_column(header.replace(" ", "\n"), justify="left" if c == "variant" else "right",
+                         overflow="fold" if c == "variant" else "ellipsis",
+                         no_wrap=c != "variant")
+    for row in result.summary.iter_rows(named=True):
+        table.add_row(*[_number(c, row[c]) for c in shown])
+        ci = [_ci_text(row, *_CI_SHOWN[c]) if c in _CI_SHOWN else "" for c in shown]
+        if any(ci):
+            table.add_row(*(["  95% CI"] + ci[1:]), style="dim")
     console.print(table)
+    console.print(_LEGEND[result.kind], style="dim", highlight=False)
     for f in result.files:
-        console.print(f"wrote {f}")
+        console.print(f"wrote {f}", highlight=False)
 
 
-def _dashboard(result, save_rrd: Path | None, rerun: bool) -> None:
+def _dashboard(result, save: Path | None, rerun: bool, force: bool) -> None:
     from mimic.viz.trials import save_trial_dashboard, show_trial_dashboard
-    if save_rrd:
-        save_trial_dashboard(result, save_rrd)
-        console.print(f"wrote {save_rrd}")
+    if save:
+        save_trial_dashboard(result, save, overwrite=force)
+        console.print(f"wrote {save}", highlight=False)
     if rerun:
         try:
             show_trial_dashboard(result)
         except Exception as exc:  # no viewer binary or no display: the tables stand anyway
             reason = (str(exc).strip().splitlines() or [type(exc).__name__])[0]
-            raise MimicError(f"could not open a Rerun viewer ({reason}); use --save-rrd FILE and "
+            raise MimicError(f"could not open a Rerun viewer ({reason}); use --save FILE and "
                              "open it with `rerun FILE` where a display is available") from exc
+
+
+def _check(kind: str, specs, out: Path | None, save: Path | None, force: bool,
+           **trial_options) -> None:
+    """Before the first episode: options, every variant, and the outputs (they can be
+    written, and do not exist unless --force)."""
+    from mimic.files import check_outputs
+    from mimic.trials.api import check_trial, trial_files
+    check_trial(kind, specs, **trial_options)
+    check_outputs([*trial_files(out), save], force=force)
 
 
 @trial_app.command("kick")
@@ -115,25 +195,26 @@ def kick(
     compare: Annotated[bool, _COMPARE] = False,
     motion: Annotated[str | None, _MOTION] = None,
     model: Annotated[str | None, _MODEL] = None,
-    minutes: Annotated[float, typer.Option(help="Simulated minutes per variant.")] = 30.0,
-    seed: Annotated[int, typer.Option(help="Seed; the same seed gives the same table.")] = 0,
-    workers: Annotated[int | None, typer.Option(help="Worker processes (default: all cores).")] = None,
+    minutes: Annotated[float, typer.Option(help="Simulated minutes per variant, > 0.")] = 30.0,
+    seed: Annotated[int, _SEED] = 0,
+    workers: Annotated[int | None, _WORKERS] = None,
     balance: Annotated[bool, typer.Option(help="Wrap learned motions in balance feedback.")] = False,
     out: Annotated[Path | None, typer.Option("--out", "-o", help="Parquet file of every kick.")] = None,
-    save_rrd: Annotated[Path | None, _SAVE_RRD] = None,
+    save: Annotated[Path | None, typer.Option("--save", help=_SAVE_HELP)] = None,
+    save_old: Annotated[Path | None, SAVE_OLD] = None,
     rerun: Annotated[bool, _RERUN] = False,
+    force: Annotated[bool, FORCE] = False,
 ) -> None:
     """Kick trial: kick toward the goal, walk to the ball, kick again until a goal; repeat."""
     from mimic.trials.api import kick_trial
-    if minutes <= 0:
-        raise MimicError(f"--minutes must be > 0, got {minutes}")
+    save = save_path(save, save_old)
     specs = _specs(variants, compare, motion, model, balance, 1.0, "kick_right")
-    progress, update = _progress_bar(minutes, None)
-    with progress:
+    _check("kick", specs, out, save, force, minutes=minutes, seed=seed, workers=workers)
+    with TrialProgress(minutes, None) as progress:
         result = kick_trial(specs, minutes=minutes, seed=seed, workers=workers, out=out,
-                            progress=update, trace=bool(save_rrd or rerun))
+                            progress=progress, trace=bool(save or rerun), overwrite=force)
     _print(result, f"kick trial, {minutes:g} simulated min per variant, seed {seed}")
-    _dashboard(result, save_rrd, rerun)
+    _dashboard(result, save, rerun, force)
 
 
 @trial_app.command("walk")
@@ -143,31 +224,38 @@ def walk(
     compare: Annotated[bool, _COMPARE] = False,
     motion: Annotated[str | None, _MOTION] = None,
     model: Annotated[str | None, _MODEL] = None,
-    minutes: Annotated[float | None, typer.Option(help="Simulated minutes per variant.")] = None,
-    runs: Annotated[int | None, typer.Option(help="Runs per variant (instead of minutes).")] = None,
-    seed: Annotated[int, typer.Option(help="Seed; the same seed gives the same table.")] = 0,
-    workers: Annotated[int | None, typer.Option(help="Worker processes (default: all cores).")] = None,
+    minutes: Annotated[float | None, typer.Option(
+        help="Simulated minutes per variant, > 0.", show_default=False)] = None,
+    runs: Annotated[int | None, typer.Option(
+        help="Runs per variant, >= 1 (instead of minutes; default 10).",
+        show_default=False)] = None,
+    seed: Annotated[int, _SEED] = 0,
+    workers: Annotated[int | None, _WORKERS] = None,
     balance: Annotated[bool, typer.Option(help="Wrap learned motions in balance feedback.")] = False,
-    speed_rate: Annotated[float, typer.Option(help="Phase-rate multiplier for learned cyclic motions.")] = 1.0,
+    speed_rate: Annotated[float, typer.Option(
+        help="Phase-rate multiplier for learned cyclic motions, > 0.")] = 1.0,
     out: Annotated[Path | None, typer.Option("--out", "-o", help="Parquet file of every run.")] = None,
-    save_rrd: Annotated[Path | None, _SAVE_RRD] = None,
+    save: Annotated[Path | None, typer.Option("--save", help=_SAVE_HELP)] = None,
+    save_old: Annotated[Path | None, SAVE_OLD] = None,
     rerun: Annotated[bool, _RERUN] = False,
+    force: Annotated[bool, FORCE] = False,
 ) -> None:
     """Walk trial: from the own goal line to the centre line (15 m), repeated."""
     from mimic.trials.api import walk_trial
+    save = save_path(save, save_old)
     if minutes is not None and runs is not None:
         raise MimicError("give --minutes or --runs, not both")
-    if (minutes is not None and minutes <= 0) or (runs is not None and runs <= 0):
-        raise MimicError("--minutes and --runs must be > 0")
     specs = _specs(variants, compare, motion, model, balance, speed_rate, "walk")
     if minutes is None and runs is None:
         runs = 10
-    progress, update = _progress_bar(minutes, runs)
-    with progress:
+    _check("walk", specs, out, save, force, minutes=minutes, runs=runs, seed=seed,
+           workers=workers)
+    with TrialProgress(minutes, runs) as progress:
         result = walk_trial(specs, minutes=minutes, runs=runs, seed=seed, workers=workers,
-                            out=out, progress=update, trace=bool(save_rrd or rerun))
+                            out=out, progress=progress, trace=bool(save or rerun),
+                            overwrite=force)
     _print(result, f"walk trial (15 m), seed {seed}")
-    _dashboard(result, save_rrd, rerun)
+    _dashboard(result, save, rerun, force)
 
 
 def register(app: typer.Typer) -> None:

@@ -7,21 +7,25 @@ from typing import Annotated
 
 import typer
 
-from mimic.cli.common import console, reports_errors
+from mimic.cli.common import FORCE, SAVE, console, reports_errors
 
 
 @reports_errors
 def view(
     recording: Annotated[Path, typer.Argument(help="An MCAP recording.")],
     model: Annotated[Path | None, typer.Option(help="A learned model to overlay.")] = None,
-    save: Annotated[Path | None, typer.Option(help="Save to this .rrd instead of opening "
-                                                     "the viewer.")] = None,
+    save: Annotated[Path | None, SAVE] = None,
+    force: Annotated[bool, FORCE] = False,
 ) -> None:
-    """Show a recording in Rerun: robot in 3D, joint curves grouped, references overlaid."""
+    """Show a recording in Rerun: robot in 3D, joint curves, references, the ended flag."""
+    from mimic.files import check_output
     from mimic.viz.recording import view_recording
-    logged = view_recording(recording, model=model, save=save)
+    if save is not None:
+        check_output(save, force=force)
+    logged = view_recording(recording, model=model, save=save, overwrite=force)
     if save:
-        console.print(f"wrote {save} ({logged['robot']}: {', '.join(logged['series'])})")
+        console.print(f"wrote {save} ({logged['robot']}: {', '.join(logged['series'])})",
+                      highlight=False)
 
 
 def register(app: typer.Typer) -> None:

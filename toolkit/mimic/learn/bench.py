@@ -20,7 +20,8 @@ from mimic.robot.registry import DEFAULT_ROBOT, get_robot
 
 __all__ = ["BenchResult", "bench_train", "kick_dataset", "synthetic_dataset", "torch_baseline"]
 
-_PAPER_DATA = Path(__file__).resolve().parents[4] / "shared" / "paper-data"
+_PAPER_DATA = Path(os.environ.get("MIMIC_PAPER_DATA")
+                   or Path(__file__).resolve().parents[4] / "shared" / "paper-data")
 
 
 def _single_thread() -> None:

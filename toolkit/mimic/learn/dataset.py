@@ -148,7 +148,15 @@ def _read_table(path: Path, topic: str | None):
         topic = topic or rec.joint_topic()
         frame = read_joint_table(rec, topic)
         info = rec.info
-        meta = {"source": str(path), "topic": topic}
+        meta = {"source": str(path), "topic": topic,
+                # How complete the recording is (``mimic.learn.checks`` warns about it).
+                "recording_complete": rec.recovery.complete,
+                "recording_interrupted": rec.interrupted,
+                "recording_bytes_lost": rec.recovery.bytes_lost,
+                "recording_duration_s": (float(frame[TIME_COLUMN][-1]) if frame.height
+                                         else 0.0),
+                "recording_ended": bool(ENDED_COLUMN in frame.columns and frame.height
+                                        and frame[ENDED_COLUMN].max() > 0.5)}
         period, robot = None, rec.robot.name
         if info is not None:
             meta.update(motion=info.motion, team=info.team, agent=info.agent,
@@ -183,9 +191,11 @@ def dataset_from_file(path: str | Path, topic: str | None = None, *,
         DatasetError: unreadable content for a dataset (see ``dataset_from_frame``);
         RecordingError: the recording cannot be read.
     """
-    path = Path(path)
-    if not path.is_file():
-        raise DatasetError(f"{path}: no such file")
+    from mimic.files import input_file
+    try:
+        path = input_file(path, "file", "give a .mcap recording or a study .txt table")
+    except MimicError as err:
+        raise DatasetError(str(err)) from None
     try:
         frame, robot, meta, period = _read_table(path, topic)
     except MimicError:

@@ -2,7 +2,8 @@
 
 Graph: input ``time_s`` (T, 1) float32 = seconds from the motion start; output ``outputs``
 (T, N + 1) float32 = the robot's N joint references [rad] in its order + the ended flag (the
-width is the model's). The input mapping is inside the graph:
+width is the model's); both carry these meanings as ONNX doc strings. The input mapping is
+inside the graph:
 
 * time models: x = (time_s - offset) * scale (Sub, Mul);
 * cyclic (phase) models: the input is still time [s]; the graph computes
@@ -27,10 +28,20 @@ from mimic import __version__
 from mimic.learn.model import INPUT_PHASE, MotionModel
 from mimic.learn.network import LEAKY_SLOPE
 
-__all__ = ["model_to_onnx", "export_onnx", "OPSET"]
+__all__ = ["model_to_onnx", "export_onnx", "output_doc", "OPSET", "INPUT_DOC"]
 
 #: ONNX opset used (LeakyRelu, Sin, Cos are all in opset 7+).
 OPSET = 17
+#: Doc string of the graph's input.
+INPUT_DOC = ("time_s: (T, 1) float32, seconds from the motion start; cyclic motions loop, so "
+             "any time is valid")
+
+
+def output_doc(model: MotionModel) -> str:
+    """Doc string of the graph's output: what each of its columns is."""
+    return (f"outputs: (T, {model.layout.out_dim}) float32; columns 0..{len(model.joint_names) - 1}"
+            f": joint references [rad] in this order: {', '.join(model.joint_names)}; column "
+            f"{len(model.joint_names)}: the motion-ended flag (> 0.5: the motion has ended)")
 
 
 def model_to_onnx(model: MotionModel):
@@ -68,9 +79,12 @@ def model_to_onnx(model: MotionModel):
               helper.make_node("Add", ["y_scaled", "output_mean"], ["outputs"])]
     graph = helper.make_graph(
         nodes, f"mimic_{model.name}",
-        [helper.make_tensor_value_info("time_s", TensorProto.FLOAT, ["T", 1])],
-        [helper.make_tensor_value_info("outputs", TensorProto.FLOAT, ["T", model.layout.out_dim])],
-        inits)
+        [helper.make_tensor_value_info("time_s", TensorProto.FLOAT, ["T", 1],
+                                       doc_string=INPUT_DOC)],
+        [helper.make_tensor_value_info("outputs", TensorProto.FLOAT, ["T", model.layout.out_dim],
+                                       doc_string=output_doc(model))],
+        inits, doc_string=f"mimic motion network for {model.name!r} ({model.input_kind} input, "
+                          f"{model.layout.n_params} parameters, preset {model.preset})")
     proto = helper.make_model(graph, producer_name="mimic", producer_version=__version__,
                               opset_imports=[helper.make_opsetid("", OPSET)])
     proto.ir_version = min(proto.ir_version, 9)  # readable by older onnxruntime releases
@@ -86,11 +100,15 @@ def model_to_onnx(model: MotionModel):
     return proto
 
 
-def export_onnx(model: MotionModel, path: str | Path) -> Path:
-    """Write ``model`` as an ONNX file; returns the path."""
+def export_onnx(model: MotionModel, path: str | Path, *, overwrite: bool = True) -> Path:
+    """Write ``model`` as an ONNX file (under a temporary name, moved into place when
+    complete, see ``mimic.files``); returns the path."""
     import onnx
 
+    from mimic.files import atomic_output
+
     path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    onnx.save(model_to_onnx(model), str(path))
+    proto = model_to_onnx(model)
+    with atomic_output(path, overwrite=overwrite) as tmp:
+        onnx.save(proto, str(tmp))
     return path

@@ -15,22 +15,29 @@ from __future__ import annotations
 import io
 import json
 import zipfile
+import zlib
 from pathlib import Path
 
 import numpy as np
 
 from mimic import __version__
 from mimic.errors import MimicError, ModelFileError
+from mimic.files import atomic_output, input_file
 from mimic.learn.model import MotionModel
 from mimic.learn.network import Layout
 from mimic.robot.registry import DEFAULT_ROBOT, get_robot
 
-__all__ = ["save_model", "load_model", "describe_model", "is_model_file", "FORMAT", "SUFFIX"]
+__all__ = ["save_model", "load_model", "describe_model", "is_model_file", "looks_like_model_file",
+           "FORMAT", "SUFFIX"]
 
 FORMAT = "mimic-motion-model"
 FORMAT_VERSION = 1
 SUFFIX = ".mimic"
 _META = "meta.json"
+_ZIP_MAGIC = b"PK\x03\x04"
+#: What a damaged zip raises while reading: bad CRC, bad deflate data, cut-off entries.
+_DAMAGE = (zipfile.BadZipFile, zlib.error, EOFError, OSError, NotImplementedError)
+_RETRAIN = "train it again with 'mimic train RECORDING -o MODEL.mimic'"
 
 
 def _array_bytes(a: np.ndarray) -> bytes:
@@ -39,10 +46,10 @@ def _array_bytes(a: np.ndarray) -> bytes:
     return buf.getvalue()
 
 
-def save_model(model: MotionModel, path: str | Path) -> Path:
-    """Write ``model`` to ``path`` (parent folders created); returns the path."""
+def save_model(model: MotionModel, path: str | Path, *, overwrite: bool = True) -> Path:
+    """Write ``model`` to ``path`` (parent folders created, written under a temporary name and
+    moved into place, see ``mimic.files``); returns the path."""
     path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
     meta = {
         "format": FORMAT,
         "format_version": FORMAT_VERSION,
@@ -63,13 +70,14 @@ def save_model(model: MotionModel, path: str | Path) -> Path:
         "metrics": model.metrics,
         "source": model.metadata,
     }
-    tmp = path.with_name(path.name + ".part")
-    with zipfile.ZipFile(tmp, "w", compression=zipfile.ZIP_DEFLATED) as z:
-        z.writestr(_META, json.dumps(meta, indent=1, default=_json_default))
-        z.writestr("params.npy", _array_bytes(np.asarray(model.params, dtype=np.float32)))
-        z.writestr("output_mean.npy", _array_bytes(np.asarray(model.output_mean, dtype=np.float64)))
-        z.writestr("output_std.npy", _array_bytes(np.asarray(model.output_std, dtype=np.float64)))
-    tmp.replace(path)  # never leave a half-written model under the real name
+    with atomic_output(path, overwrite=overwrite) as tmp:  # never a half-written model
+        with zipfile.ZipFile(tmp, "w", compression=zipfile.ZIP_DEFLATED) as z:
+            z.writestr(_META, json.dumps(meta, indent=1, default=_json_default))
+            z.writestr("params.npy", _array_bytes(np.asarray(model.params, dtype=np.float32)))
+            z.writestr("output_mean.npy",
+                       _array_bytes(np.asarray(model.output_mean, dtype=np.float64)))
+            z.writestr("output_std.npy",
+                       _array_bytes(np.asarray(model.output_std, dtype=np.float64)))
     return path
 
 
@@ -81,19 +89,57 @@ def _json_default(value):
     return str(value)
 
 
+def _starts_as_zip(path: Path) -> bool:
+    try:
+        with open(path, "rb") as f:
+            return f.read(len(_ZIP_MAGIC)) == _ZIP_MAGIC
+    except OSError:
+        return False
+
+
+def looks_like_model_file(path: str | Path) -> bool:
+    """True for a ``.mimic`` name or a zip file: something to read as a model (and to call a
+    broken model file if it does not read), not as a recording."""
+    path = Path(path)
+    return path.suffix == SUFFIX or _starts_as_zip(path)
+
+
 def _read_meta(path: Path) -> tuple[zipfile.ZipFile, dict]:
-    if not path.is_file():
-        raise ModelFileError(f"{path}: no such model file")
+    try:
+        input_file(path, "model file", "train one with 'mimic train RECORDING -o MODEL.mimic'")
+    except MimicError as err:
+        raise ModelFileError(str(err)) from None
     try:
         z = zipfile.ZipFile(path)
+    except _DAMAGE as err:
+        if _starts_as_zip(path):  # a model file cut off or damaged at its end
+            raise ModelFileError(f"{path}: broken model file ({_damage(err)}: cut off or "
+                                 f"damaged); {_RETRAIN}") from None
+        raise ModelFileError(f"{path}: not a mimic model file (not a zip archive); "
+                             f"{_RETRAIN}") from None
+    try:
         meta = json.loads(z.read(_META))
-    except (zipfile.BadZipFile, KeyError, json.JSONDecodeError, UnicodeDecodeError, OSError):
-        raise ModelFileError(f"{path}: not a mimic model file; train one with "
-                             "'mimic train RECORDING -o MODEL.mimic'") from None
+    except KeyError:
+        z.close()
+        raise ModelFileError(f"{path}: not a mimic model file (no {_META}); {_RETRAIN}") from None
+    except (*_DAMAGE, json.JSONDecodeError, UnicodeDecodeError) as err:
+        z.close()
+        raise ModelFileError(f"{path}: broken model file ({_damage(err)} in {_META}); "
+                             f"{_RETRAIN}") from None
     if not isinstance(meta, dict) or meta.get("format") != FORMAT:
         z.close()
         raise ModelFileError(f"{path}: not a mimic model file (no {FORMAT!r} tag)")
     return z, meta
+
+
+def _damage(err: BaseException) -> str:
+    """What is wrong, in a few words: ``bad CRC-32 of params.npy``, ``missing 'layout'``."""
+    text = str(err).strip().splitlines()[0] if str(err).strip() else ""
+    if isinstance(err, KeyError):
+        return f"missing {text}"
+    if isinstance(err, zipfile.BadZipFile):
+        return text[:1].lower() + text[1:] if text else "damaged zip archive"
+    return f"{type(err).__name__}: {text}"[:100] if text else type(err).__name__
 
 
 def is_model_file(path: str | Path) -> bool:
@@ -137,8 +183,9 @@ def load_model(path: str | Path) -> MotionModel:
             params = np.load(io.BytesIO(z.read("params.npy")), allow_pickle=False)
             mean = np.load(io.BytesIO(z.read("output_mean.npy")), allow_pickle=False)
             std = np.load(io.BytesIO(z.read("output_std.npy")), allow_pickle=False)
-        except (KeyError, ValueError, TypeError) as err:
-            raise ModelFileError(f"{path}: damaged model file ({err})") from None
+        except (KeyError, ValueError, TypeError, *_DAMAGE) as err:
+            raise ModelFileError(f"{path}: broken model file ({_damage(err)}); "
+                                 f"{_RETRAIN}") from None
     if params.shape != (layout.n_params,) or layout.out_dim != len(names) + 1 \
             or mean.shape != (layout.out_dim,) or std.shape != (layout.out_dim,):
         raise ModelFileError(f"{path}: damaged model file (array shapes do not match its layout)")

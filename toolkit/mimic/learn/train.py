@@ -39,6 +39,12 @@ class TrainConfig:
     # Report progress (and loss curves) every this many epochs.
     log_every: int = 250
 
+    def __post_init__(self) -> None:
+        from mimic import options
+        options.seed(self.seed)
+        options.count(self.epochs, "--epochs")
+        options.count(self.log_every, "log_every")
+
     def schedule(self) -> Preset:
         return self.preset if self.epochs is None else self.preset.with_epochs(self.epochs)
 

@@ -10,10 +10,14 @@ A recording holds ROS 2 messages (CDR) so that Rerun and Foxglove open it as it 
 | ``/tf`` | tf2_msgs/msg/TFMessage | the robot's link tree (``world`` -> ``torso`` -> ... , as in the URDF) and ``world`` -> ``ball`` |
 | ``/robot_description`` | std_msgs/msg/String | the URDF twin, once at t = 0 |
 
-Times are integer nanoseconds from the start of the recording, both as MCAP log times and
-in the message headers. The metadata record ``mimic`` (written first) says what the recording
-is, including its robot: joint messages hold that robot's joints (N of them, its order);
-``mimic.end`` (written when the file is finished) says how it ended.
+Times are integer nanoseconds. MCAP log times and message header stamps are wall-clock times
+(Unix epoch): the moment the recording started (``start_wall_time_ns`` in the ``mimic``
+record) plus the simulated time since then, so viewers show the date it was made. Older
+files (no ``start_wall_time_ns``) have log times from 0; readers handle both and give times
+from the first sample. The metadata record ``mimic`` (written first) says what the
+recording is, including its robot: joint messages hold that robot's joints (N of them, its
+order); ``mimic.end`` (written when the file is finished) says how it ended, with
+``last_time_ns`` in simulated time.
 
 Joint tables read from a recording (``mimic.recording.reader.read_joint_table``) have the
 columns ``TIME_COLUMN``, the robot's joint names in its order, and ``ENDED_COLUMN``.
@@ -30,7 +34,7 @@ from mimic.world.base import CYCLE_S
 __all__ = [
     "JOINT_STATES", "JOINT_REFERENCES", "ENDED", "TF", "ROBOT_DESCRIPTION", "JOINT_TOPICS",
     "WORLD_FRAME", "BALL_FRAME", "METADATA_NAME", "END_METADATA_NAME", "TIME_COLUMN",
-    "ENDED_COLUMN", "RecordingInfo", "SCHEMAS", "NS_PER_S",
+    "ENDED_COLUMN", "RecordingInfo", "SCHEMAS", "NS_PER_S", "START_WALL_TIME_KEY",
 ]
 
 JOINT_STATES = "/joint_states"
@@ -48,6 +52,8 @@ BALL_FRAME = "ball"
 METADATA_NAME = "mimic"
 END_METADATA_NAME = "mimic.end"
 NS_PER_S = 1_000_000_000
+#: Key in the ``mimic`` record: wall-clock time of simulated time 0 [ns since the Unix epoch].
+START_WALL_TIME_KEY = "start_wall_time_ns"
 
 #: Joint-table columns: seconds from the first sample, and the motion-ended flag (0/1).
 TIME_COLUMN = "time_s"

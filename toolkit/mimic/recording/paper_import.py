@@ -83,6 +83,8 @@ def default_topic(path: str | Path) -> str:
 
 
 def _parse(path: Path) -> tuple[list[str], np.ndarray]:
+    if path.is_dir():
+        raise RecordingError(f"{path}: is a directory, not a study joint table")
     try:
         lines = [ln.rstrip("\r\n") for ln in path.read_text().splitlines() if ln.strip()]
     except (OSError, UnicodeDecodeError) as err:
@@ -148,9 +150,13 @@ def read_paper_table(path: str | Path, *, distance_m: float | None = None) -> pl
 
 
 def import_paper_file(path: str | Path, out_path: str | Path, *, topic: str | None = None,
-                      distance_m: float | None = None) -> L.RecordingInfo:
+                      distance_m: float | None = None, overwrite: bool = True
+                      ) -> L.RecordingInfo:
     """Write a study file as a recording in our layout (joints on ``topic``, default by file:
-    ``default_topic``), with ``/ended`` and the robot description. Returns its info."""
+    ``default_topic``), with ``/ended`` and the robot description. Returns its info.
+
+    The recording is written under a temporary name and moved into place when complete;
+    ``overwrite`` False refuses to replace an existing ``out_path``."""
     path = Path(path)
     robot = get_robot(STUDY_ROBOT)
     topic = topic or default_topic(path)
@@ -168,7 +174,7 @@ def import_paper_file(path: str | Path, out_path: str | Path, *, topic: str | No
         extra={"imported_from": path.name, "sign_convention": "mimic.recording.paper_import",
                **({"distance_m": f"{distance_m:g}"} if distance_m is not None else {})})
     t0 = times[0]
-    with RecordingWriter(out_path, info, urdf=robot.urdf()) as writer:
+    with RecordingWriter(out_path, info, urdf=robot.urdf(), overwrite=overwrite) as writer:
         for t, row, ended in zip(times, values, table[ENDED_COLUMN].to_numpy()):
             t_ns = int(round((t - t0) * L.NS_PER_S))
             writer.write_joints(t_ns, row, topic=topic)

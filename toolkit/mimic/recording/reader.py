@@ -4,6 +4,10 @@ Files are scanned as a stream (never by seeking to the summary at the end), whic
 finished file and one cut off by a crash read the same way; ``RecoveryReport`` says what a
 damaged file lost. Joint tables come out as polars DataFrames in the recording's robot's joint
 order (``RecordingInfo.robot``; files without metadata hold our NAO).
+
+Log times are wall-clock times in new files and simulated times from 0 in older ones (see
+``mimic.recording.layout``); ``Recording.time_origin_ns`` is the log time of simulated time 0,
+and every time this module gives in seconds counts from it or from the first sample.
 """
 
 from __future__ import annotations
@@ -50,7 +54,7 @@ class RecoveryReport:
     Attributes:
         complete: the footer was reached (the writer finished the file).
         messages_recovered: messages read from complete chunks.
-        last_time_s: log time of the last recovered message [s].
+        last_time_s: time of the last recovered message since the recording started [s].
         bytes_read: bytes of the file that made complete records.
         bytes_lost: bytes after them that could not be used (0 for a complete file).
         problem: what stopped the reading (empty when complete).
@@ -81,6 +85,9 @@ class Recording:
     metadata: dict[str, dict[str, str]]
     topics: dict[str, TopicInfo]
     recovery: RecoveryReport
+    # Log time of simulated time 0 [ns]: the wall-clock start of the recording, 0 in older
+    # files, the first log time in files of other tools.
+    time_origin_ns: int = 0
     _messages: dict[str, list[tuple[int, bytes]]] = field(repr=False, default_factory=dict)
     _schemas: dict[str, Schema] = field(repr=False, default_factory=dict)
 
@@ -141,11 +148,14 @@ def read_recording(path: str | Path) -> Recording:
     """Read a recording front to back, recovering what a truncated file still holds.
 
     Raises:
-        RecordingError: missing file, or not an MCAP file at all.
+        RecordingError: missing file, a folder, or not an MCAP file at all.
     """
-    path = Path(path)
-    if not path.is_file():
-        raise RecordingError(f"{path}: no such file")
+    from mimic.errors import MimicError
+    from mimic.files import input_file
+    try:
+        path = input_file(path, "recording", "record one with 'mimic record'")
+    except MimicError as err:
+        raise RecordingError(str(err)) from None
     size = path.stat().st_size
     with open(path, "rb") as f:
         if f.read(len(_MAGIC)) != _MAGIC:
@@ -156,7 +166,7 @@ def read_recording(path: str | Path) -> Recording:
         channels: dict[int, Channel] = {}
         messages: dict[str, list[tuple[int, bytes]]] = {}
         metadata: dict[str, dict[str, str]] = {}
-        complete, problem, good_bytes, count, last_ns = False, "", 0, 0, 0
+        complete, problem, good_bytes, count, last_ns, first_ns = False, "", 0, 0, 0, None
         try:
             for record in StreamReader(f, validate_crcs=True).records:
                 if isinstance(record, Schema):
@@ -168,6 +178,8 @@ def read_recording(path: str | Path) -> Recording:
                     messages.setdefault(topic, []).append((record.log_time, record.data))
                     count += 1
                     last_ns = max(last_ns, record.log_time)
+                    first_ns = record.log_time if first_ns is None else min(first_ns,
+                                                                            record.log_time)
                 elif isinstance(record, Metadata):
                     metadata[record.name] = dict(record.metadata)
                 elif isinstance(record, Footer):
@@ -196,9 +208,20 @@ def read_recording(path: str | Path) -> Recording:
             info = L.RecordingInfo.from_metadata(metadata[L.METADATA_NAME])
         except (ValueError, TypeError):
             info = None
-    report = RecoveryReport(complete, count, last_ns / L.NS_PER_S, good_bytes,
-                            size - good_bytes, problem)
-    return Recording(path, info, metadata, topics, report, messages, topic_schemas)
+    origin = _time_origin_ns(metadata, first_ns)
+    report = RecoveryReport(complete, count, (last_ns - origin) / L.NS_PER_S if count else 0.0,
+                            good_bytes, size - good_bytes, problem)
+    return Recording(path, info, metadata, topics, report, origin, messages, topic_schemas)
+
+
+def _time_origin_ns(metadata: dict[str, dict[str, str]], first_ns: int | None) -> int:
+    """Log time of simulated time 0: ``start_wall_time_ns`` when written, else 0 for our older
+    files (log times from 0), else the first log time (files of other tools)."""
+    ours = metadata.get(L.METADATA_NAME, {})
+    try:
+        return int(ours[L.START_WALL_TIME_KEY])
+    except (KeyError, ValueError):
+        return 0 if ours or first_ns is None else first_ns
 
 
 def _as_recording(source: str | Path | Recording) -> Recording:
@@ -343,6 +366,16 @@ def describe_recording(path: str | Path) -> dict:
     rec = read_recording(path)
     info = rec.info
     end = rec.metadata.get(L.END_METADATA_NAME, {})
+    warnings = []
+    if L.JOINT_STATES not in rec.topics:
+        warnings.append(f"no {L.JOINT_STATES} topic: no joint angles to view or learn "
+                        f"(topics: {', '.join(sorted(rec.topics)) or 'none'})")
+    if info is None:
+        warnings.append(f"no '{L.METADATA_NAME}' metadata record: not written by mimic, "
+                        "motion and rate unknown")
+    if not rec.recovery.complete:
+        warnings.append(rec.recovery.summary())
+    start = rec.metadata.get(L.METADATA_NAME, {}).get(L.START_WALL_TIME_KEY)
     return {
         "path": str(rec.path),
         "kind": "recording",
@@ -357,7 +390,7 @@ def describe_recording(path: str | Path) -> dict:
         "seed": info.seed if info else None,
         "toolkit_version": info.toolkit_version if info else None,
         "duration_s": round(rec.duration_s, 6),
-        "rate_hz": round(rec.rate_hz, 3),
+        "rate_hz": round(rec.rate_hz, 3) if rec.joint_topic(required=False) else None,
         "topics": {name: {"schema": t.schema, "messages": t.count}
                    for name, t in sorted(rec.topics.items())},
         "interrupted": rec.interrupted,
@@ -365,4 +398,13 @@ def describe_recording(path: str | Path) -> dict:
         "recovery": rec.recovery.summary(),
         "bytes_lost": rec.recovery.bytes_lost,
         "end": end,
+        "started_at": _iso_time(int(start)) if start and start.isdigit() else None,
+        "warnings": warnings,
     }
+
+
+def _iso_time(time_ns: int) -> str:
+    """Wall-clock time [ns since the Unix epoch] as ISO 8601 UTC, to the second."""
+    import datetime
+    return datetime.datetime.fromtimestamp(time_ns / L.NS_PER_S, datetime.timezone.utc
+                                           ).isoformat(timespec="seconds")

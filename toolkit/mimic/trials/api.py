@@ -8,13 +8,23 @@ from pathlib import Path
 
 import polars as pl
 
+from mimic import options
 from mimic.agents.registry import AgentSpec
+from mimic.errors import MimicError
 from mimic.trials.kick import KickTrialConfig, run_kick_episode
 from mimic.trials.parallel import EpisodeBatch, run_episodes
-from mimic.trials.report import kick_summary, walk_summary, with_ratios, write_rows, write_summary
+from mimic.trials.report import (
+    kick_summary,
+    summary_files,
+    walk_summary,
+    with_ratios,
+    write_rows,
+    write_summary,
+)
 from mimic.trials.walk import WalkTrialConfig, run_walk_episode
 
-__all__ = ["TrialResult", "kick_trial", "walk_trial"]
+__all__ = ["TrialResult", "kick_trial", "walk_trial", "check_trial", "check_variants",
+           "trial_files"]
 
 
 @dataclass
@@ -30,10 +40,56 @@ class TrialResult:
     traces: dict = field(default_factory=dict)
 
 
+def trial_files(out: Path | None) -> list[Path]:
+    """The files a trial with ``out`` writes: the parquet of every event and its summary."""
+    return [] if out is None else [Path(out), *summary_files(Path(out))]
+
+
+def check_variants(kind: str, specs: list[AgentSpec]) -> None:
+    """Before any episode runs: every variant can be built for this trial (model files read
+    and are made for this robot, motion files parse, a kick knows where its ball lies).
+
+    Raises:
+        MimicError: the first variant that cannot, named.
+    """
+    if not specs:
+        raise MimicError("no variant to try; give a motion, a .mimic model or an agent name")
+    for spec in specs:
+        options.finite(spec.speed_rate, "--speed-rate", above=0)
+        if spec.kind == "model":
+            from mimic.learn.model_file import load_model
+            load_model(spec.ref)
+        elif spec.kind == "motion":
+            from mimic.motion.files import load_motion
+            load_motion(spec.ref)
+        if kind == "kick":
+            spec.ball_offset_m()
+
+
+def check_trial(kind: str, specs: list[AgentSpec], *, minutes: float | None = None,
+                runs: int | None = None, seed: int = 0, workers: int | None = None) -> None:
+    """Everything a trial checks before its first episode: options in range (``--minutes``
+    finite and > 0, ``--runs`` and ``--workers`` >= 1, a seed numpy accepts) and every variant
+    (``check_variants``).
+
+    Raises:
+        MimicError: the first problem, in one line naming the option or the variant.
+    """
+    options.finite(minutes, "--minutes", above=0)
+    options.count(runs, "--runs")
+    options.seed(seed)
+    options.workers(workers)
+    check_variants(kind, specs)
+
+
 def _run(kind: str, episode_fn: Callable, summarise: Callable, specs: list[AgentSpec], config,
          *, minutes: float | None, runs: int | None, seed: int, workers: int | None,
          out: Path | None, progress: Callable[[str, EpisodeBatch], None] | None,
-         trace: bool) -> TrialResult:
+         trace: bool, overwrite: bool) -> TrialResult:
+    check_trial(kind, specs, minutes=minutes, runs=runs, seed=seed, workers=workers)
+    if out is not None and not overwrite:
+        from mimic.files import check_outputs
+        check_outputs(trial_files(out))
     frames, rows, traces = [], [], {}
     for spec in specs:
         batch = run_episodes(episode_fn, spec, config,
@@ -52,32 +108,43 @@ def _run(kind: str, episode_fn: Callable, summarise: Callable, specs: list[Agent
     if out is not None:
         meta = dict(kind=kind, minutes=minutes, runs=runs, seed=seed,
                     variants=[asdict(s) for s in specs], config=asdict(config))
-        write_rows(table, out, meta)
-        result.files = [out, *write_summary(summary, out.with_name(out.stem + "_summary"))]
+        write_rows(table, out, meta, summary=summary, overwrite=overwrite)
+        result.files = [out, *write_summary(summary, out.with_name(out.stem + "_summary"),
+                                            overwrite=overwrite)]
     return result
 
 
 def kick_trial(specs: list[AgentSpec], *, minutes: float = 30.0, seed: int = 0,
                workers: int | None = None, out: Path | None = None,
                config: KickTrialConfig = KickTrialConfig(), progress=None,
-               trace: bool = False) -> TrialResult:
+               trace: bool = False, overwrite: bool = True) -> TrialResult:
     """Kick trial of each variant for ``minutes`` simulated minutes under the same seeds.
 
     ``trace``: keep the first episode of each variant as a pose trace (``result.traces``).
+    ``overwrite``: replace existing output files (False: refuse before any episode runs).
+
+    Raises:
+        MimicError: an option out of range, a variant that cannot be built (checked for every
+            variant before the first episode), an output that exists (``overwrite`` False).
     """
     return _run("kick", run_kick_episode, kick_summary, specs, config, minutes=minutes, runs=None,
-                seed=seed, workers=workers, out=out, progress=progress, trace=trace)
+                seed=seed, workers=workers, out=out, progress=progress, trace=trace,
+                overwrite=overwrite)
 
 
 def walk_trial(specs: list[AgentSpec], *, minutes: float | None = None, runs: int | None = None,
                seed: int = 0, workers: int | None = None, out: Path | None = None,
                config: WalkTrialConfig = WalkTrialConfig(), progress=None,
-               trace: bool = False) -> TrialResult:
+               trace: bool = False, overwrite: bool = True) -> TrialResult:
     """Walk trial (own goal line to centre line) of each variant, by minutes or run count.
 
     ``trace``: keep the first run of each variant as a pose trace (``result.traces``).
+    ``overwrite``, Raises: as ``kick_trial``.
     """
+    if minutes is not None and runs is not None:
+        raise MimicError("give --minutes or --runs, not both")
     if minutes is None and runs is None:
         runs = 10
     return _run("walk", run_walk_episode, walk_summary, specs, config, minutes=minutes, runs=runs,
-                seed=seed, workers=workers, out=out, progress=progress, trace=trace)
+                seed=seed, workers=workers, out=out, progress=progress, trace=trace,
+                overwrite=overwrite)

@@ -1,7 +1,8 @@
 """The richer view of a recording: robot, ball and field in 3D; joint curves grouped (head,
-arms, legs) with references and reached angles overlaid; footsteps and centre-of-mass path for
-walks; a learned model's output overlaid when given. Everything follows the recording's robot
-(``Recording.robot``): its joints, its link shapes, its masses and feet."""
+arms, legs) with references and reached angles overlaid; the motion-ended flag (``/ended``);
+footsteps and centre-of-mass path for walks; a learned model's output overlaid when given.
+Everything follows the recording's robot (``Recording.robot``): its joints, its link shapes,
+its masses and feet."""
 
 from __future__ import annotations
 
@@ -13,9 +14,17 @@ import rerun as rr
 import rerun.blueprint as rrb
 
 from mimic.errors import MimicError
+from mimic.files import PendingOutput
 from mimic.learn.compensate import compensate_references
-from mimic.recording.layout import BALL_FRAME, JOINT_REFERENCES, JOINT_STATES, TIME_COLUMN
-from mimic.recording.reader import read_joint_table, read_recording, read_tf
+from mimic.recording.layout import (
+    BALL_FRAME,
+    ENDED,
+    ENDED_COLUMN,
+    JOINT_REFERENCES,
+    JOINT_STATES,
+    TIME_COLUMN,
+)
+from mimic.recording.reader import Recording, read_joint_table, read_recording, read_tf
 from mimic.robot.actuators import SpeedServos
 from mimic.robot.model import RobotDescription
 from mimic.viz.curves import curves_blueprint, joint_columns, log_joint_table
@@ -23,11 +32,14 @@ from mimic.viz.gait import centre_of_mass_path, footsteps
 from mimic.viz.paths import WORLD, time_column
 from mimic.viz.scene import log_ball_poses, log_body_poses, log_field, log_robot_geometry
 
-__all__ = ["log_recording", "recording_blueprint", "view_recording"]
+__all__ = ["log_recording", "recording_blueprint", "view_recording", "ENDED_PATH"]
+
+#: Entity of the motion-ended flag (0/1 over simulated time).
+ENDED_PATH = "motion/ended"
 
 
-def log_recording(rec: rr.RecordingStream, path: str | Path, *, model: str | Path | None = None
-                  ) -> dict:
+def log_recording(rec: rr.RecordingStream, path: str | Path | Recording, *,
+                  model=None) -> dict:
     """Log a recording (and optionally a model learned from it) onto ``rec``.
 
     With a model, three more series sit beside the recorded ones: ``learned`` (the network's
@@ -36,26 +48,37 @@ def log_recording(rec: rr.RecordingStream, path: str | Path, *, model: str | Pat
     the network is played in the simulator, as ``mimic record --model`` would). Compensation
     is defined for speed servos only: robots with PD motors get no ``compensated`` series.
 
-    Returns a short description of what was logged (robot, series names, counts).
+    ``path``: a recording file or a ``Recording`` already read; ``model``: a model file or a
+    loaded ``MotionModel``. Returns a short description of what was logged (robot, series
+    names, counts).
 
     Raises:
         MimicError: the model was learned on another robot than the recording's.
     """
-    recording = read_recording(path)
+    recording = path if isinstance(path, Recording) else read_recording(path)
     robot = recording.robot
     logged = {"robot": robot.name, "series": []}
+    table = None
     if JOINT_STATES in recording.topics:
-        log_joint_table(rec, read_joint_table(recording, JOINT_STATES), "reached", robot)
+        table = read_joint_table(recording, JOINT_STATES)
+        log_joint_table(rec, table, "reached", robot)
         logged["series"].append("reached")
     if JOINT_REFERENCES in recording.topics:
-        log_joint_table(rec, read_joint_table(recording, JOINT_REFERENCES), "reference", robot)
+        table = read_joint_table(recording, JOINT_REFERENCES)
+        log_joint_table(rec, table, "reference", robot)
         logged["series"].append("reference")
+    if table is not None and ENDED in recording.topics:
+        rec.log(ENDED_PATH, rr.SeriesLines(colors=[(200, 40, 40)], names=["ended"]),
+                static=True)
+        rec.send_columns(ENDED_PATH, indexes=[time_column(table["time_s"].to_numpy())],
+                         columns=rr.Scalars.columns(scalars=table[ENDED_COLUMN].to_numpy()))
+        logged["ended"] = True
     if model is not None:
         from mimic.learn.model_file import load_model
-        loaded = load_model(model)
+        loaded = load_model(model) if isinstance(model, (str, Path)) else model
         if loaded.robot != robot.name:
-            raise MimicError(f"{model}: a model of the {loaded.robot}; {path} is a recording "
-                             f"of the {robot.name}")
+            raise MimicError(f"{model}: a model of the {loaded.robot}; the recording is of "
+                             f"the {robot.name}")
         observed = read_joint_table(recording, recording.joint_topic())
         times = observed[TIME_COLUMN].to_numpy()
         names = loaded.joint_names
@@ -133,21 +156,44 @@ def _replayed_table(model, recording) -> pl.DataFrame:
 
 def recording_blueprint() -> rrb.Blueprint:
     """3D scene on the left, one curve plot per joint group on the right."""
+    curves = curves_blueprint()
     return rrb.Blueprint(rrb.Horizontal(
         rrb.Spatial3DView(origin=WORLD, name="robot"),
-        rrb.Vertical(*curves_blueprint()),
+        rrb.Vertical(*curves, rrb.TimeSeriesView(origin=ENDED_PATH, name="ended (/ended)"),
+                     row_shares=[3] * len(curves) + [1]),
         column_shares=[2, 3],
     ))
 
 
 def view_recording(path: str | Path, *, model: str | Path | None = None,
-                   save: str | Path | None = None, spawn: bool = True) -> dict:
-    """Open the view in the Rerun viewer, or save it as an .rrd file."""
+                   save: str | Path | None = None, spawn: bool = True,
+                   overwrite: bool = True) -> dict:
+    """Open the view in the Rerun viewer, or save it as an .rrd file.
+
+    The recording and the model are read before anything is written; the .rrd file is written
+    under a temporary name and moved into place when complete (``mimic.files``), so a failure
+    leaves no file and an existing ``save`` untouched. ``overwrite`` False refuses to replace
+    an existing ``save``.
+    """
+    from mimic.learn.model_file import load_model
+    recording = read_recording(path)
+    loaded = load_model(model) if model is not None else None
     rec = rr.RecordingStream("mimic", recording_id=str(path))
-    if save is not None:
-        rec.save(str(save), default_blueprint=recording_blueprint())
-    elif spawn:
-        rec.spawn(default_blueprint=recording_blueprint())
-    logged = log_recording(rec, path, model=model)
-    rec.flush()
+    if save is None:
+        if spawn:
+            rec.spawn(default_blueprint=recording_blueprint())
+        logged = log_recording(rec, recording, model=loaded)
+        rec.flush()
+        return logged
+    pending = PendingOutput(save, overwrite=overwrite)
+    try:
+        rec.save(str(pending.tmp), default_blueprint=recording_blueprint())
+        logged = log_recording(rec, recording, model=loaded)
+        rec.flush()
+    except BaseException:
+        rec.disconnect()
+        pending.discard()
+        raise
+    rec.disconnect()
+    pending.commit()
     return logged

@@ -20,21 +20,27 @@ class TrainingCurves:
 
     Args:
         spawn: open (or connect to) a Rerun viewer.
-        save_rrd: also/instead write the stream to this ``.rrd`` file.
+        save_rrd: also/instead write the stream to this ``.rrd`` file (under a temporary name
+            until ``close``; ``discard`` removes it: ``mimic.files``).
         flush_every: send buffered points after this many reports.
+        overwrite: replace an existing ``save_rrd`` on ``close`` (False: refuse then).
     """
 
     def __init__(self, *, spawn: bool = False, save_rrd: str | Path | None = None,
-                 flush_every: int = 20, application_id: str = "mimic_train") -> None:
+                 flush_every: int = 20, application_id: str = "mimic_train",
+                 overwrite: bool = True) -> None:
         import rerun as rr
+
+        from mimic.files import PendingOutput
 
         self._rr = rr
         self.rec = rr.RecordingStream(application_id)
+        self._pending = None
         if spawn:
             self.rec.spawn()
         if save_rrd is not None:
-            Path(save_rrd).parent.mkdir(parents=True, exist_ok=True)
-            self.rec.save(str(save_rrd))
+            self._pending = PendingOutput(save_rrd, overwrite=overwrite)
+            self.rec.save(str(self._pending.tmp))
         self.flush_every = flush_every
         self._buf: dict[str, dict[str, list]] = {}
         self._reports = 0
@@ -66,7 +72,15 @@ class TrainingCurves:
                 v.clear()
 
     def close(self) -> None:
-        """Flush and finish the stream (the .rrd file is complete afterwards)."""
+        """Flush and finish the stream (the .rrd file is complete and in place afterwards)."""
         self.flush()
         self.rec.flush()
         self.rec.disconnect()
+        if self._pending is not None:
+            self._pending.commit()
+
+    def discard(self) -> None:
+        """Stop the stream and remove the unfinished .rrd file (training failed)."""
+        self.rec.disconnect()
+        if self._pending is not None:
+            self._pending.discard()

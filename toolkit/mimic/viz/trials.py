@@ -106,13 +106,22 @@ def trial_blueprint(result) -> rrb.Blueprint:
     ))
 
 
-def save_trial_dashboard(result, path: Path) -> None:
-    """Write the dashboard of a trial to an .rrd file with its blueprint."""
+def save_trial_dashboard(result, path: Path, *, overwrite: bool = True) -> None:
+    """Write the dashboard of a trial to an .rrd file with its blueprint (under a temporary
+    name, moved into place when complete: ``mimic.files``)."""
+    from mimic.files import PendingOutput
+    pending = PendingOutput(path, overwrite=overwrite)
     rec = rr.RecordingStream("mimic_trial")
-    rec.save(str(path), default_blueprint=trial_blueprint(result))
-    log_trial(rec, result)
-    rec.flush()
+    try:
+        rec.save(str(pending.tmp), default_blueprint=trial_blueprint(result))
+        log_trial(rec, result)
+        rec.flush()
+    except BaseException:
+        rec.disconnect()
+        pending.discard()
+        raise
     rec.disconnect()
+    pending.commit()
 
 
 def show_trial_dashboard(result) -> None:
