@@ -12,6 +12,7 @@ from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 from rich.table import Table
 
 from mimic.cli.common import console, reports_errors
+from mimic.cli.executor_options import RAY, RAY_ADDRESS, WORKERS, open_executor
 from mimic.errors import MimicError
 
 trial_app = typer.Typer(help="Run the kick and walk trials (original and learned side by side).",
@@ -117,11 +118,13 @@ def kick(
     model: Annotated[str | None, _MODEL] = None,
     minutes: Annotated[float, typer.Option(help="Simulated minutes per variant.")] = 30.0,
     seed: Annotated[int, typer.Option(help="Seed; the same seed gives the same table.")] = 0,
-    workers: Annotated[int | None, typer.Option(help="Worker processes (default: all cores).")] = None,
+    workers: Annotated[int | None, WORKERS] = None,
     balance: Annotated[bool, typer.Option(help="Wrap learned motions in balance feedback.")] = False,
     out: Annotated[Path | None, typer.Option("--out", "-o", help="Parquet file of every kick.")] = None,
     save_rrd: Annotated[Path | None, _SAVE_RRD] = None,
     rerun: Annotated[bool, _RERUN] = False,
+    ray: Annotated[bool, RAY] = False,
+    ray_address: Annotated[str | None, RAY_ADDRESS] = None,
 ) -> None:
     """Kick trial: kick toward the goal, walk to the ball, kick again until a goal; repeat."""
     from mimic.trials.api import kick_trial
@@ -129,8 +132,8 @@ def kick(
         raise MimicError(f"--minutes must be > 0, got {minutes}")
     specs = _specs(variants, compare, motion, model, balance, 1.0, "kick_right")
     progress, update = _progress_bar(minutes, None)
-    with progress:
-        result = kick_trial(specs, minutes=minutes, seed=seed, workers=workers, out=out,
+    with open_executor(workers, ray, ray_address) as executor, progress:
+        result = kick_trial(specs, minutes=minutes, seed=seed, executor=executor, out=out,
                             progress=update, trace=bool(save_rrd or rerun))
     _print(result, f"kick trial, {minutes:g} simulated min per variant, seed {seed}")
     _dashboard(result, save_rrd, rerun)
@@ -146,12 +149,14 @@ def walk(
     minutes: Annotated[float | None, typer.Option(help="Simulated minutes per variant.")] = None,
     runs: Annotated[int | None, typer.Option(help="Runs per variant (instead of minutes).")] = None,
     seed: Annotated[int, typer.Option(help="Seed; the same seed gives the same table.")] = 0,
-    workers: Annotated[int | None, typer.Option(help="Worker processes (default: all cores).")] = None,
+    workers: Annotated[int | None, WORKERS] = None,
     balance: Annotated[bool, typer.Option(help="Wrap learned motions in balance feedback.")] = False,
     speed_rate: Annotated[float, typer.Option(help="Phase-rate multiplier for learned cyclic motions.")] = 1.0,
     out: Annotated[Path | None, typer.Option("--out", "-o", help="Parquet file of every run.")] = None,
     save_rrd: Annotated[Path | None, _SAVE_RRD] = None,
     rerun: Annotated[bool, _RERUN] = False,
+    ray: Annotated[bool, RAY] = False,
+    ray_address: Annotated[str | None, RAY_ADDRESS] = None,
 ) -> None:
     """Walk trial: from the own goal line to the centre line (15 m), repeated."""
     from mimic.trials.api import walk_trial
@@ -163,8 +168,8 @@ def walk(
     if minutes is None and runs is None:
         runs = 10
     progress, update = _progress_bar(minutes, runs)
-    with progress:
-        result = walk_trial(specs, minutes=minutes, runs=runs, seed=seed, workers=workers,
+    with open_executor(workers, ray, ray_address) as executor, progress:
+        result = walk_trial(specs, minutes=minutes, runs=runs, seed=seed, executor=executor,
                             out=out, progress=update, trace=bool(save_rrd or rerun))
     _print(result, f"walk trial (15 m), seed {seed}")
     _dashboard(result, save_rrd, rerun)
