@@ -40,7 +40,8 @@ def test_two_minute_kick_trial_counts_kicks_and_distances(kick_result):
     summary = kick_result.summary.row(0, named=True)
     assert KICK_COLUMNS <= set(kick_result.summary.columns)
     assert summary["attempts"] >= 2
-    assert summary["simulated_min"] >= 2.0
+    # Whole episodes that end within the budget count, never more (the first always counts).
+    assert summary["episodes"] == 1 or summary["simulated_min"] <= 2.0
     kicks = kick_result.rows
     assert (kicks["distance_m"] > 0.0).all()
     assert (kicks["distance_m"] < 30.0).all()

@@ -6,7 +6,9 @@ A spec is text:
   keyframe player;
 * a behaviour (``walk``, ``other-team-walk``, ``other-team-kick``);
 * a learned model (``kick.mimic``), optionally inside the balance layer
-  (``kick.mimic+balance``).
+  (``kick.mimic+balance``);
+* a parameter file (``walk.json``): an engine's parameters (``agents.params_file``), e.g.
+  the other team's walk as ``mimic improve`` tuned it.
 
 ``agent_spec`` turns the text into a picklable ``AgentSpec`` (built again inside worker
 processes); ``make_agent`` builds the agent at once. Behaviour modules are imported only when
@@ -55,8 +57,9 @@ class AgentSpec:
 
     Attributes:
         kind: ``motion`` (a keyframe motion by name or .txt path), ``model`` (a learned
-            ``.mimic`` network) or ``behaviour`` (``BEHAVIOURS``).
-        ref: the motion name, model path or behaviour name.
+            ``.mimic`` network), ``behaviour`` (``BEHAVIOURS``) or ``params`` (a .json
+            parameter file of an engine, ``agents.params_file``).
+        ref: the motion name, model path, behaviour name or parameter file path.
         robot: the robot the agent drives.
         balance: wrap a learned motion in the closed-loop balance layer.
         speed_rate: phase-rate multiplier for cyclic learned motions.
@@ -71,8 +74,8 @@ class AgentSpec:
     @property
     def label(self) -> str:
         """How tables name it: ``kick_right``, ``kick (learned) + balance``."""
-        base = Path(self.ref).stem if self.kind == "model" else self.ref
-        suffix = " (learned)" if self.kind == "model" else ""
+        base = Path(self.ref).stem if self.kind in ("model", "params") else self.ref
+        suffix = {"model": " (learned)", "params": " (params)"}.get(self.kind, "")
         return base + suffix + (" + balance" if self.balance else "")
 
     def build(self) -> Agent:
@@ -90,6 +93,9 @@ class AgentSpec:
                 from mimic.agents.balance import BalancedAgent
                 agent = BalancedAgent(agent)
             return agent
+        if self.kind == "params":
+            from mimic.agents.params_file import build_engine, load_params
+            return build_engine(*load_params(self.ref))
         return _load(BEHAVIOURS[self.ref], f"agent {self.ref!r}")()
 
     def check(self, robot: str | None = None) -> None:
@@ -139,6 +145,10 @@ def agent_spec(text: str, *, robot: str = DEFAULT_ROBOT, balance: bool = False,
             raise MimicError(f"model file {text!r} not found; train one with 'mimic train'")
         from mimic.learn.model_file import load_model
         return AgentSpec("model", text, load_model(text).robot, balance, speed_rate)
+    if text.endswith(".json"):
+        from mimic.agents.params_file import load_params
+        load_params(text)  # one clear line now for a missing or bad file
+        return AgentSpec("params", text, robot, balance, speed_rate)
     from mimic.motion.files import list_motions
     if text in list_motions(robot) or text.endswith(".txt"):
         if text.endswith(".txt") and not Path(text).is_file():
@@ -148,7 +158,7 @@ def agent_spec(text: str, *, robot: str = DEFAULT_ROBOT, balance: bool = False,
         return AgentSpec("behaviour", text, robot, balance, speed_rate)
     raise MimicError(f"unknown agent {text!r}; motions: {', '.join(list_motions(robot))}; "
                      f"behaviours: {', '.join(BEHAVIOURS)}; or a .mimic model file "
-                     "(optionally +balance)")
+                     "(optionally +balance) or a .json parameter file")
 
 
 def make_agent(text: str, *, robot: str = DEFAULT_ROBOT) -> Agent:

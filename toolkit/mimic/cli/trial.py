@@ -14,6 +14,7 @@ from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 from rich.table import Column, Table
 
 from mimic.cli.common import FORCE, SAVE_OLD, console, reports_errors, save_path
+from mimic.cli.executor_options import RAY, RAY_ADDRESS, WORKERS, open_executor
 from mimic.errors import MimicError
 
 trial_app = typer.Typer(help="Run the kick and walk trials (original and learned side by side).",
@@ -29,7 +30,6 @@ _MODEL = typer.Option("--model", help="One learned model (.mimic) to try.")
 _RERUN = typer.Option("--rerun", help="Open the same dashboard in a Rerun viewer.")
 _SAVE_HELP = ("Save a Rerun dashboard (.rrd): curves, histogram, episode markers, the first "
               "episode of each variant in 3D.")
-_WORKERS = typer.Option(help="Worker processes, >= 1 (default: all cores).", show_default=False)
 _SEED = typer.Option(help="Seed (0 .. 2**32-1); the same seed gives the same table.")
 
 #: Without a terminal (a pipe, a log file), a progress line is printed at most this often [s].
@@ -197,21 +197,24 @@ def kick(
     model: Annotated[str | None, _MODEL] = None,
     minutes: Annotated[float, typer.Option(help="Simulated minutes per variant, > 0.")] = 30.0,
     seed: Annotated[int, _SEED] = 0,
-    workers: Annotated[int | None, _WORKERS] = None,
+    workers: Annotated[int | None, WORKERS] = None,
     balance: Annotated[bool, typer.Option(help="Wrap learned motions in balance feedback.")] = False,
     out: Annotated[Path | None, typer.Option("--out", "-o", help="Parquet file of every kick.")] = None,
     save: Annotated[Path | None, typer.Option("--save", help=_SAVE_HELP)] = None,
     save_old: Annotated[Path | None, SAVE_OLD] = None,
     rerun: Annotated[bool, _RERUN] = False,
     force: Annotated[bool, FORCE] = False,
+    ray: Annotated[bool, RAY] = False,
+    ray_address: Annotated[str | None, RAY_ADDRESS] = None,
 ) -> None:
     """Kick trial: kick toward the goal, walk to the ball, kick again until a goal; repeat."""
     from mimic.trials.api import kick_trial
     save = save_path(save, save_old)
     specs = _specs(variants, compare, motion, model, balance, 1.0, "kick_right")
     _check("kick", specs, out, save, force, minutes=minutes, seed=seed, workers=workers)
-    with TrialProgress(minutes, None) as progress:
-        result = kick_trial(specs, minutes=minutes, seed=seed, workers=workers, out=out,
+    with open_executor(workers, ray, ray_address) as executor, \
+            TrialProgress(minutes, None) as progress:
+        result = kick_trial(specs, minutes=minutes, seed=seed, executor=executor, out=out,
                             progress=progress, trace=bool(save or rerun), overwrite=force)
     _print(result, f"kick trial, {minutes:g} simulated min per variant, seed {seed}")
     _dashboard(result, save, rerun, force)
@@ -230,7 +233,7 @@ def walk(
         help="Runs per variant, >= 1 (instead of minutes; default 10).",
         show_default=False)] = None,
     seed: Annotated[int, _SEED] = 0,
-    workers: Annotated[int | None, _WORKERS] = None,
+    workers: Annotated[int | None, WORKERS] = None,
     balance: Annotated[bool, typer.Option(help="Wrap learned motions in balance feedback.")] = False,
     speed_rate: Annotated[float, typer.Option(
         help="Phase-rate multiplier for learned cyclic motions, > 0.")] = 1.0,
@@ -239,6 +242,8 @@ def walk(
     save_old: Annotated[Path | None, SAVE_OLD] = None,
     rerun: Annotated[bool, _RERUN] = False,
     force: Annotated[bool, FORCE] = False,
+    ray: Annotated[bool, RAY] = False,
+    ray_address: Annotated[str | None, RAY_ADDRESS] = None,
 ) -> None:
     """Walk trial: from the own goal line to the centre line (15 m), repeated."""
     from mimic.trials.api import walk_trial
@@ -250,8 +255,9 @@ def walk(
         runs = 10
     _check("walk", specs, out, save, force, minutes=minutes, runs=runs, seed=seed,
            workers=workers)
-    with TrialProgress(minutes, runs) as progress:
-        result = walk_trial(specs, minutes=minutes, runs=runs, seed=seed, workers=workers,
+    with open_executor(workers, ray, ray_address) as executor, \
+            TrialProgress(minutes, runs) as progress:
+        result = walk_trial(specs, minutes=minutes, runs=runs, seed=seed, executor=executor,
                             out=out, progress=progress, trace=bool(save or rerun),
                             overwrite=force)
     _print(result, f"walk trial (15 m), seed {seed}")

@@ -11,6 +11,7 @@ import polars as pl
 from mimic import options
 from mimic.agents.registry import AgentSpec
 from mimic.errors import MimicError
+from mimic.trials.executors import Executor, make_executor
 from mimic.trials.kick import KickTrialConfig, run_kick_episode
 from mimic.trials.parallel import EpisodeBatch, run_episodes
 from mimic.trials.report import (
@@ -84,19 +85,38 @@ def check_trial(kind: str, specs: list[AgentSpec], *, minutes: float | None = No
 
 def _run(kind: str, episode_fn: Callable, summarise: Callable, specs: list[AgentSpec], config,
          *, minutes: float | None, runs: int | None, seed: int, workers: int | None,
-         out: Path | None, progress: Callable[[str, EpisodeBatch], None] | None,
-         trace: bool, overwrite: bool) -> TrialResult:
+         executor: Executor | None, out: Path | None,
+         progress: Callable[[str, EpisodeBatch], None] | None, trace: bool,
+         overwrite: bool) -> TrialResult:
     check_trial(kind, specs, minutes=minutes, runs=runs, seed=seed, workers=workers)
     if out is not None and not overwrite:
         from mimic.files import check_outputs
         check_outputs(trial_files(out))
+    if executor is None:  # one pool for every variant: workers start once
+        with make_executor(workers) as own:
+            return _run_variants(kind, episode_fn, summarise, specs, config, minutes=minutes,
+                                 runs=runs, seed=seed, executor=own, out=out,
+                                 progress=progress, trace=trace, overwrite=overwrite)
+    return _run_variants(kind, episode_fn, summarise, specs, config, minutes=minutes, runs=runs,
+                         seed=seed, executor=executor, out=out, progress=progress, trace=trace,
+                         overwrite=overwrite)
+
+
+def _run_variants(kind: str, episode_fn: Callable, summarise: Callable, specs: list[AgentSpec],
+                  config, *, minutes: float | None, runs: int | None, seed: int,
+                  executor: Executor, out: Path | None,
+                  progress: Callable[[str, EpisodeBatch], None] | None, trace: bool,
+                  overwrite: bool) -> TrialResult:
     frames, rows, traces = [], [], {}
+    expected_s = None  # the previous variant's mean episode: how many to run at once
     for spec in specs:
         batch = run_episodes(episode_fn, spec, config,
                              budget_s=None if minutes is None else minutes * 60,
-                             episodes=runs, seed=seed, workers=workers,
-                             progress=(lambda b, s=spec: progress(s.label, b)) if progress else None,
-                             trace_episodes=1 if trace else 0)
+                             episodes=runs, seed=seed, executor=executor,
+                             progress=(lambda b, s=spec: progress(s.label, b)) if progress
+                             else None,
+                             trace_episodes=1 if trace else 0, expected_episode_s=expected_s)
+        expected_s = batch.simulated_s / len(batch.episodes) if batch.episodes else None
         if 0 in batch.traces:
             traces[spec.label] = batch.traces[0]
         rows.append(summarise(spec.label, batch))
@@ -117,34 +137,39 @@ def _run(kind: str, episode_fn: Callable, summarise: Callable, specs: list[Agent
 def kick_trial(specs: list[AgentSpec], *, minutes: float = 30.0, seed: int = 0,
                workers: int | None = None, out: Path | None = None,
                config: KickTrialConfig = KickTrialConfig(), progress=None,
-               trace: bool = False, overwrite: bool = True) -> TrialResult:
-    """Kick trial of each variant for ``minutes`` simulated minutes under the same seeds.
+               trace: bool = False, executor: Executor | None = None,
+               overwrite: bool = True) -> TrialResult:
+    """Kick trial of each variant for ``minutes`` simulated minutes under the same seeds
+    (whole episodes that end within the budget).
 
     ``trace``: keep the first episode of each variant as a pose trace (``result.traces``).
-    ``overwrite``: replace existing output files (False: refuse before any episode runs).
+    ``executor``: where episodes run (``trials.executors``: pool or Ray); default a pool of
+    ``workers`` processes. ``overwrite``: replace existing output files (False: refuse before
+    any episode runs).
 
     Raises:
         MimicError: an option out of range, a variant that cannot be built (checked for every
             variant before the first episode), an output that exists (``overwrite`` False).
     """
     return _run("kick", run_kick_episode, kick_summary, specs, config, minutes=minutes, runs=None,
-                seed=seed, workers=workers, out=out, progress=progress, trace=trace,
-                overwrite=overwrite)
+                seed=seed, workers=workers, executor=executor, out=out, progress=progress,
+                trace=trace, overwrite=overwrite)
 
 
 def walk_trial(specs: list[AgentSpec], *, minutes: float | None = None, runs: int | None = None,
                seed: int = 0, workers: int | None = None, out: Path | None = None,
                config: WalkTrialConfig = WalkTrialConfig(), progress=None,
-               trace: bool = False, overwrite: bool = True) -> TrialResult:
+               trace: bool = False, executor: Executor | None = None,
+               overwrite: bool = True) -> TrialResult:
     """Walk trial (own goal line to centre line) of each variant, by minutes or run count.
 
     ``trace``: keep the first run of each variant as a pose trace (``result.traces``).
-    ``overwrite``, Raises: as ``kick_trial``.
+    ``executor``, ``overwrite``, Raises: as ``kick_trial``.
     """
     if minutes is not None and runs is not None:
         raise MimicError("give --minutes or --runs, not both")
     if minutes is None and runs is None:
         runs = 10
     return _run("walk", run_walk_episode, walk_summary, specs, config, minutes=minutes, runs=runs,
-                seed=seed, workers=workers, out=out, progress=progress, trace=trace,
-                overwrite=overwrite)
+                seed=seed, workers=workers, executor=executor, out=out, progress=progress,
+                trace=trace, overwrite=overwrite)

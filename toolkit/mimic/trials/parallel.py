@@ -1,23 +1,24 @@
-"""Runs episodes in worker processes until a simulated-time budget is spent, reproducibly.
+"""Runs episodes on an executor until a simulated-time budget is spent, reproducibly.
 
-Episode i always gets seed ``derive_seed(seed, i)``, and whole episodes are counted in index
-order until their simulated time reaches the budget, so the same seed gives the same table
-whatever the number of workers.
+Episode i always gets seed ``derive_seed(seed, i)``. Episodes are counted in index order, and
+an episode counts only if it ends within the budget (the first one always counts), so a
+trial never runs past its budget and the same seed gives the same table whatever the
+executor (one process, a pool of any size, Ray).
 """
 
 from __future__ import annotations
 
 import dataclasses
-import multiprocessing as mp
-import os
+import math
 from collections import deque
 from collections.abc import Callable
-from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass, field
 
 import numpy as np
 
-__all__ = ["EpisodeBatch", "run_episodes", "derive_seed", "default_workers"]
+from mimic.trials.executors import Executor, available_cores, make_executor
+
+__all__ = ["EpisodeBatch", "run_episodes", "derive_seed", "default_workers", "run_job"]
 
 
 def derive_seed(seed: int, episode: int) -> int:
@@ -26,7 +27,7 @@ def derive_seed(seed: int, episode: int) -> int:
 
 
 def default_workers() -> int:
-    return len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count()
+    return available_cores()
 
 
 @dataclass
@@ -50,7 +51,9 @@ class EpisodeBatch:
         return sum(e["duration_s"] for e in self.episodes)
 
 
-def _call(job):
+def run_job(job: tuple) -> tuple[list[dict], dict]:
+    """One episode: ``(func, spec, seed, config, episode)`` -> (rows, summary), each tagged
+    with the episode index (module level: worker processes and Ray pickle it by name)."""
     func, spec, seed, config, episode = job
     rows, summary = func(spec, seed, config)
     for r in rows:
@@ -61,54 +64,73 @@ def _call(job):
 
 def run_episodes(func: Callable, spec, config, *, budget_s: float | None = None,
                  episodes: int | None = None, seed: int = 0, workers: int | None = None,
+                 executor: Executor | None = None,
                  progress: Callable[[EpisodeBatch], None] | None = None,
-                 trace_episodes: int = 0) -> EpisodeBatch:
-    """Run ``func(spec, seed, config) -> (rows, summary)`` episodes until ``budget_s`` of
-    simulated time (summary['duration_s']) is reached, or exactly ``episodes`` episodes.
+                 trace_episodes: int = 0, first_episode: int = 0,
+                 expected_episode_s: float | None = None) -> EpisodeBatch:
+    """Run ``func(spec, seed, config) -> (rows, summary)`` episodes until the next one would
+    end past ``budget_s`` of simulated time (summary['duration_s']), or exactly ``episodes``.
 
-    The first ``trace_episodes`` episodes run with ``config.trace = True`` (the config must
-    have that field); their ``summary['trace']`` goes to ``batch.traces``.
+    ``executor`` runs them (kept open for the caller's next batch); without one, a pool of
+    ``workers`` processes (default: every core) is made and closed here. Episode indices start
+    at ``first_episode`` (validation runs use indices a search never reaches). The first
+    ``trace_episodes`` episodes run with ``config.trace = True`` (the config must have that
+    field); their ``summary['trace']`` goes to ``batch.traces``.
+
+    With a budget, only as many episodes run at once as the budget still looks like it needs
+    (from the mean duration so far, or ``expected_episode_s`` before the first one ends, e.g.
+    the previous variant's; with neither, the first episode runs alone): a short trial does
+    not pay for episodes it will throw away. Which episodes count does not depend on it.
     """
     if (budget_s is None) == (episodes is None):
         raise ValueError("give exactly one of budget_s and episodes")
-    workers = workers or default_workers()
+    if executor is None:
+        with make_executor(workers) as own:
+            return run_episodes(func, spec, config, budget_s=budget_s, episodes=episodes,
+                                seed=seed, executor=own, progress=progress,
+                                trace_episodes=trace_episodes, first_episode=first_episode,
+                                expected_episode_s=expected_episode_s)
     batch = EpisodeBatch([], [])
-
-    def enough() -> bool:
-        if episodes is not None:
-            return len(batch.episodes) >= episodes
-        return batch.simulated_s >= budget_s
 
     def jobs():
         i = 0
         while episodes is None or i < episodes:
             traced = dataclasses.replace(config, trace=True) if i < trace_episodes else config
-            yield (func, spec, derive_seed(seed, i), traced, i)
+            index = first_episode + i
+            yield (func, spec, derive_seed(seed, index), traced, index)
             i += 1
 
     job_iter = jobs()
-    if workers <= 1:
-        for job in job_iter:
-            batch.add(*_call(job))
-            if progress:
-                progress(batch)
-            if enough():
-                break
-        return batch
-    with ProcessPoolExecutor(workers, mp_context=mp.get_context("spawn")) as pool:
-        pending: deque = deque()
-        for _ in range(workers + 1):  # a few spare so no worker idles; few to discard
+    pending: deque = deque()
+
+    def wanted() -> int:  # episodes worth having in flight
+        if budget_s is None:
+            return executor.workers
+        mean_s = (batch.simulated_s / len(batch.episodes) if batch.episodes
+                  else expected_episode_s)
+        if not mean_s:
+            return 1
+        left = math.ceil(max(0.0, budget_s - batch.simulated_s) / mean_s)
+        return max(1, min(executor.workers, left))
+
+    def top_up() -> None:  # at most one episode per worker in flight
+        while len(pending) < wanted():
             job = next(job_iter, None)
-            if job is not None:
-                pending.append(pool.submit(_call, job))
-        while pending and not enough():
-            batch.add(*pending.popleft().result())
-            if progress:
-                progress(batch)
-            if not enough():
-                job = next(job_iter, None)
-                if job is not None:
-                    pending.append(pool.submit(_call, job))
-        for future in pending:
-            future.cancel()
+            if job is None:
+                return
+            pending.append(executor.submit(run_job, job))
+
+    top_up()
+    while pending:
+        rows, summary = executor.result(pending.popleft())
+        if (budget_s is not None and batch.episodes
+                and batch.simulated_s + summary["duration_s"] > budget_s):
+            break  # would end past the budget: it and every later episode do not count
+        batch.add(rows, summary)
+        if progress:
+            progress(batch)
+        if budget_s is not None and batch.simulated_s >= budget_s:
+            break
+        top_up()
+    executor.discard(pending)
     return batch

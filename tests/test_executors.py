@@ -1,0 +1,117 @@
+"""Where episodes run: budgets never overshot, one pool for every variant, workers capped at
+the cores, and the same results in one process, a process pool and Ray."""
+
+import numpy as np
+import pytest
+
+from mimic.agents.registry import AgentSpec
+from mimic.errors import MimicError
+from mimic.trials import api
+from mimic.trials.executors import (
+    InlineExecutor,
+    PoolExecutor,
+    available_cores,
+    make_executor,
+    resolve_workers,
+)
+from mimic.trials.parallel import run_episodes
+from mimic.trials.walk import WalkTrialConfig
+
+
+def fake_episode(spec, seed, config):
+    """An episode without a simulator: 10..59 s long, one row (module level: picklable)."""
+    duration = 10.0 + seed % 50
+    return [dict(seed=seed, value=seed % 7)], dict(duration_s=duration, seed=seed)
+
+
+def _run(executor, budget_s=200.0):
+    return run_episodes(fake_episode, None, None, budget_s=budget_s, seed=3, executor=executor)
+
+
+def test_budget_is_never_overshot_and_the_cut_is_the_same_in_a_pool():
+    inline = _run(InlineExecutor())
+    assert inline.simulated_s <= 200.0
+    # The next episode in index order would have ended past the budget.
+    nxt = fake_episode(None, _seed(3, len(inline.episodes)), None)[1]["duration_s"]
+    assert inline.simulated_s + nxt > 200.0
+    with PoolExecutor(2) as pool:
+        pooled = _run(pool)
+        again = _run(pool)  # the same pool serves the next variant
+    assert pooled.rows == inline.rows == again.rows
+    assert [e["episode"] for e in pooled.episodes] == list(range(len(inline.episodes)))
+
+
+def _seed(seed, i):
+    from mimic.trials.parallel import derive_seed
+    return derive_seed(seed, i)
+
+
+def test_the_first_episode_counts_even_past_a_tiny_budget():
+    batch = _run(InlineExecutor(), budget_s=1.0)
+    assert len(batch.episodes) == 1
+
+
+def test_workers_are_capped_at_the_cores_with_one_line():
+    cores = available_cores()
+    assert resolve_workers(None) == (cores, None)
+    n, note = resolve_workers(cores + 14)
+    assert n == cores and note == (f"using {cores} workers: {cores + 14} asked, {cores} cores "
+                                   "available")
+    with pytest.raises(MimicError, match="--workers must be >= 1"):
+        resolve_workers(0)
+    with make_executor(cores + 14) as ex:
+        assert ex.workers == min(cores, cores + 14)
+
+
+def test_one_executor_serves_every_variant(monkeypatch):
+    made = []
+    real = api.make_executor
+
+    def counting(workers=None, ray=None):
+        made.append(workers)
+        return real(workers, ray)
+
+    monkeypatch.setattr(api, "make_executor", counting)
+    walk = AgentSpec("behaviour", "walk")
+    result = api.walk_trial([walk, walk], runs=1, workers=1,
+                            config=WalkTrialConfig(timeout_s=1.0))
+    assert made == [1] and result.rows.height == 2
+
+
+def test_map_returns_results_in_order():
+    with InlineExecutor() as ex:
+        assert ex.map(abs, [-3, 2, -1]) == [3, 2, 1]
+
+
+@pytest.fixture(scope="module")
+def local_ray():
+    ray = pytest.importorskip("ray")
+    ray.init(num_cpus=2, include_dashboard=False, log_to_driver=False)
+    yield ray
+    ray.shutdown()
+
+
+@pytest.mark.slow  # starting Ray takes 10-15 s on 2 cores
+def test_ray_gives_the_results_of_the_process_pool(local_ray, tmp_path):
+    from typer.testing import CliRunner
+
+    from mimic.cli.main import app
+    from mimic.improve import improve
+    from mimic.improve.objectives import WalkObjective
+
+    with make_executor(ray="local") as ray_ex, PoolExecutor(2) as pool:
+        assert ray_ex.workers == 2
+        walk, short = AgentSpec("behaviour", "walk"), WalkTrialConfig(timeout_s=2.0)
+        trials = [api.walk_trial([walk], minutes=0.3, seed=5, config=short, executor=ex)
+                  for ex in (ray_ex, pool)]
+        assert trials[0].rows.equals(trials[1].rows) and trials[0].rows.height >= 5
+        tiny = WalkObjective(episodes=1, trial_config=WalkTrialConfig(timeout_s=3.0))
+        runs = [improve("other-team-walk", objective=tiny, budget=8, population=4,
+                        out=tmp_path / f"{name}.json", executor=ex)
+                for name, ex in (("ray", ray_ex), ("pool", pool))]
+    (z_ray, s_ray, _), (z_pool, s_pool, _) = (r.search.best for r in runs)
+    assert np.array_equal(z_ray, z_pool) and s_ray == s_pool
+    assert (tmp_path / "ray.json").read_text() == (tmp_path / "pool.json").read_text()
+    # The trial command on the Ray started above.
+    result = CliRunner().invoke(app, ["trial", "walk", "--runs", "2", "--ray"])
+    assert result.exit_code == 0, result.output

@@ -1,0 +1,224 @@
+"""`mimic improve`: targets and their files, the learned-model correction, the seeded and
+resumable CMA-ES search, held-out validation, the command. Tiny episodes (3 s walks)."""
+
+import dataclasses
+import json
+import subprocess
+
+import numpy as np
+import pytest
+from typer.testing import CliRunner
+
+from mimic.agents.other_team import WalkParams
+from mimic.agents.params_file import load_params
+from mimic.agents.registry import agent_spec
+from mimic.cli.main import app
+from mimic.errors import MimicError
+from mimic.improve import improve
+from mimic.improve.correction import corrected_model
+from mimic.improve.objectives import OBJECTIVES, KickObjective, WalkObjective
+from mimic.improve.search import MAX_SEARCH_EPISODE, CheckpointError
+from mimic.improve.targets import load_target
+from mimic.improve.validation import held_out_episodes
+from mimic.learn.model import MotionModel
+from mimic.learn.model_file import load_model, save_model
+from mimic.learn.network import Layout, init_params
+from mimic.motion.files import load_motion, parse_motion
+from mimic.trials.kick import KickTrialConfig
+from mimic.trials.parallel import derive_seed
+from mimic.trials.walk import WalkTrialConfig
+
+#: 3 s walks: a search of 8 evaluations plays in about a second in one process.
+TINY_WALK = WalkObjective(episodes=1, trial_config=WalkTrialConfig(timeout_s=3.0))
+
+
+def _tiny_model(kick: bool = True) -> MotionModel:
+    layout = Layout(in_dim=1, out_dim=23, hidden=(8,))
+    rng = np.random.default_rng(0)
+    meta = {"motion": "tiny", "ball_offset_m": [0.16, -0.07]} if kick else {"motion": "tiny"}
+    return MotionModel(layout, init_params(layout, rng), input_offset_s=0.3,
+                       input_scale_per_s=2.0, duration_s=1.5,
+                       output_mean=rng.normal(0, 0.2, 23), output_std=rng.uniform(0.1, 0.3, 23),
+                       metadata=meta)
+
+
+def test_model_correction_is_exact_and_an_ordinary_model_file(tmp_path):
+    model = _tiny_model()
+    rng = np.random.default_rng(1)
+    rate, offsets, gains = 1.25, rng.normal(0, 0.05, 22), rng.uniform(0.8, 1.2, 22)
+    fixed = corrected_model(model, rate, offsets, gains)
+    t = np.linspace(0.0, 1.2, 13)
+    mean = model.output_mean[:22]
+    want = mean + gains * (model.predict(rate * t)[:, :22] - mean) + offsets
+    assert np.allclose(fixed.predict(t)[:, :22], want, atol=1e-12)
+    assert np.allclose(fixed.predict(t)[:, 22], model.predict(rate * t)[:, 22])
+    assert fixed.duration_s == pytest.approx(1.5 / rate)
+    path = save_model(fixed, tmp_path / "fixed.mimic")
+    assert np.allclose(load_model(path).predict(t), fixed.predict(t))
+    assert load_model(path).metadata["correction"]["rate"] == rate
+    assert agent_spec(str(path)).kind == "model"
+
+
+def test_model_target_searches_a_time_warp_and_leg_offsets_and_gains(tmp_path):
+    path = save_model(_tiny_model(), tmp_path / "kick.mimic")
+    target = load_target(str(path))
+    assert target.space.dim == 25 and target.space.names[0] == "time_rate"
+    assert "offset.right_hip_roll" in target.space.names
+    assert "gain.left_ankle_roll" in target.space.names
+    zero = target.spec(np.zeros(25)).model
+    assert np.array_equal(zero.predict(np.linspace(0, 1, 5)), target.model.predict(
+        np.linspace(0, 1, 5)))
+    assert target.spec(np.zeros(25)).ball_offset_m() == (0.16, -0.07)
+
+
+def test_motion_target_round_trips_through_a_motion_file(tmp_path):
+    target = load_target("kick_right", joints="right_hip_pitch,right_knee_pitch")
+    steps = len(load_motion("kick_right").steps)
+    assert target.space.dim == 2 * steps + steps + 1
+    assert target.movement_at(np.zeros(target.space.dim)).steps == load_motion(
+        "kick_right").steps
+    z = np.random.default_rng(2).normal(size=target.space.dim)
+    path = target.write(z, tmp_path / "better.txt", {"evaluations": 8, "best_score": 1.5})
+    text = path.read_text()
+    assert text.startswith("# improved by mimic improve")
+    back = parse_motion(text, str(path))
+    assert back.steps == target.movement_at(z).steps
+    assert back.speed_rate == pytest.approx(target.movement_at(z).speed_rate)
+    assert agent_spec(str(path)).kind == "motion"
+
+
+def test_walk_parameters_go_to_a_parameter_file_every_command_accepts(tmp_path):
+    target = load_target("other-team-walk")
+    assert target.kind == "params" and "servo.gain" in target.space.names
+    z = np.zeros(target.space.dim)
+    z[target.space.names.index("speed_m_s")] = 2.0
+    z[target.space.names.index("servo.gain")] = -1.0
+    path = target.write(z, tmp_path / "walk.json", {"evaluations": 4})
+    agent, params = load_params(path)
+    assert agent == "other-team-walk"
+    assert params.speed_m_s == pytest.approx(WalkParams().speed_m_s + 0.06)
+    assert params.servo.gain == pytest.approx(WalkParams().servo.gain - 0.03)
+    assert params.step_cycles == WalkParams().step_cycles
+    spec = agent_spec(str(path))
+    assert spec.kind == "params" and spec.label == "walk (params)"
+    assert spec.build().params == params
+    assert load_target(str(path)).params == params  # a parameter file improves further
+
+
+def test_bad_parameter_files_are_one_clear_line(tmp_path):
+    bad = tmp_path / "bad.json"
+    bad.write_text(json.dumps({"format": "mimic-agent-params", "agent": "other-team-walk",
+                               "params": {"speed_m_s": 0.5, "warp": 1}}))
+    with pytest.raises(MimicError, match="no field 'warp'"):
+        agent_spec(str(bad))
+    bad.write_text("{")
+    with pytest.raises(MimicError, match="not a parameter file"):
+        agent_spec(str(bad))
+    with pytest.raises(MimicError, match="not found"):
+        agent_spec(str(tmp_path / "missing.json"))
+
+
+def test_search_is_seeded_and_resumes_from_its_checkpoint(tmp_path):
+    kw = dict(objective=TINY_WALK, population=4, workers=1)
+    straight = improve("other-team-walk", budget=8, out=tmp_path / "a.json", **kw)
+    assert straight.search.evaluations == 8 and len(straight.search.generations) == 2
+    improve("other-team-walk", budget=4, out=tmp_path / "b.json", **kw)
+    resumed = improve("other-team-walk", budget=8, out=tmp_path / "b.json", **kw)
+    assert resumed.search.resumed == 1
+    for g, h in zip(straight.search.generations, resumed.search.generations):
+        assert np.array_equal(g.z, h.z) and np.array_equal(g.scores, h.scores)
+    assert json.loads((tmp_path / "a.json").read_text()) == json.loads(
+        (tmp_path / "b.json").read_text())
+    # Episodes of generation g are g * E .. g * E + E - 1, shared by its candidates.
+    assert [g.first_episode for g in straight.search.generations] == [0, 1]
+    # A checkpoint of another search, or a damaged one, stops the run with one line.
+    with pytest.raises(CheckpointError, match="another search"):
+        improve("other-team-walk", budget=8, out=tmp_path / "b.json", seed=1, **kw)
+    (tmp_path / "b.json.ckpt.json").write_text('{"format": "mimic-improve-checkpoint"')
+    with pytest.raises(CheckpointError, match="damaged"):
+        improve("other-team-walk", budget=8, out=tmp_path / "b.json", **kw)
+
+
+def test_validation_plays_seeds_the_search_never_played(tmp_path):
+    run = improve("other-team-walk", objective=TINY_WALK, budget=4, population=4, workers=1,
+                  out=tmp_path / "w.json", validation_episodes=3, pick="mean")
+    # The optimiser's final mean was written and validated, not the best candidate scored.
+    assert np.array_equal(run.z, run.search.mean_z)
+    assert not np.array_equal(run.z, run.search.best[0])
+    assert json.loads((tmp_path / "w.json").read_text())["provenance"]["pick"] == "mean"
+    summary = run.validation.summary
+    assert summary["variant"].to_list() == ["other-team-walk", "other-team-walk (improved)"]
+    assert summary["runs"].to_list() == [3, 3]
+    search_seeds = {derive_seed(0, i) for i in run.search.search_episodes(1)}
+    assert not search_seeds & set(run.validation.rows["seed"].to_list())
+    assert held_out_episodes(0, 3, [0, 1]).start == MAX_SEARCH_EPISODE
+    # The improved variant's first held-out episode is kept for the 3D replay.
+    assert list(run.validation.traces) == ["other-team-walk (improved)"]
+    assert [f.suffix for f in run.files] == [".csv", ".md"]
+
+
+def test_kick_objective_scores_distance_times_success_minus_falls():
+    from mimic.trials.parallel import EpisodeBatch
+    batch = EpisodeBatch([dict(distance_m=4.0), dict(distance_m=1.0)], [dict(falls=1)])
+    assert KickObjective(fall_penalty_m=2.0).score(batch) == pytest.approx(2.0 - 1.0)
+    assert KickObjective().search_config.episode_limit_s == 60.0
+    assert KickObjective(trial_config=KickTrialConfig(walk_timeout_s=5.0)
+                         ).search_config.walk_timeout_s == 5.0
+
+
+@pytest.mark.parametrize("args, message", [
+    (["walk", "--objective", "walk", "--budget", "4", "-o", "x.json"], "cannot improve 'walk'"),
+    (["kick_right", "--objective", "kick", "--budget", "0", "-o", "x.txt"], "--budget must be"),
+    (["kick_right", "--objective", "kick", "--budget", "4", "-o", "x.json"], "as a .txt file"),
+    (["kick_right", "--objective", "kick", "--budget", "4", "-o", "x.txt", "--sigma", "nan"],
+     "--sigma must be"),
+    (["kick_right", "--objective", "kick", "--budget", "2", "-o", "x.txt"],
+     "less than one generation"),
+    (["kick_right", "--objective", "kick", "--budget", "4", "-o", "x.txt", "--ray-address",
+      "127.0.0.1:1"], "cannot reach a Ray cluster"),
+    (["kick_right", "--objective", "kick", "--budget", "4", "-o", "x.txt", "--joints", "tail"],
+     "no joint 'tail'"),
+    (["other-team-walk", "--objective", "kick", "--budget", "4", "-o", "x.json"], "not a kick"),
+])
+def test_bad_input_is_one_clear_line(args, message, tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    result = CliRunner().invoke(app, ["improve", *args])
+    assert result.exit_code == 2, result.output
+    assert message in result.output
+    assert "Traceback" not in result.output
+
+
+def test_corrupt_checkpoint_is_one_clear_line(tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "x.txt.ckpt.json").write_text("not json")
+    result = CliRunner().invoke(app, ["improve", "kick_right", "--objective", "kick",
+                                      "--budget", "4", "-o", "x.txt", "--workers", "1"])
+    assert result.exit_code == 2 and "damaged or not a checkpoint" in result.output
+
+
+def test_command_writes_the_file_the_trial_accepts_and_a_rerun_run(tmp_path, rerun_cli,
+                                                                   monkeypatch):
+    # 3 s walks instead of the trial's 15 m for the search and validation.
+    monkeypatch.setitem(OBJECTIVES, "walk", lambda **kw: dataclasses.replace(TINY_WALK, **kw))
+    monkeypatch.chdir(tmp_path)
+    runner = CliRunner()
+    result = runner.invoke(app, ["improve", "other-team-walk", "--objective", "walk",
+                                 "--budget", "4", "--episodes", "1", "--validate", "1",
+                                 "--workers", "1", "-o", "walk.json", "--save", "run.rrd"])
+    assert result.exit_code == 0, result.output
+    assert "search: 4 evaluations" in result.output and "validation" in result.output
+    assert (tmp_path / "walk.json.ckpt.json").is_file()
+    provenance = json.loads((tmp_path / "walk.json").read_text())["provenance"]
+    assert provenance["evaluations"] == 4 and provenance["objective"] == "walk"
+    text = subprocess.run([rerun_cli, "rrd", "print", "run.rrd"], check=True,
+                          capture_output=True, text=True, timeout=120).stdout
+    for entity in ("/improve/score/best ", "/improve/score/best_so_far", "/improve/candidates",
+                   "/world/replay/other_team_walk__improved/robot/torso"):
+        assert entity in text
+    trial = runner.invoke(app, ["trial", "walk", "walk.json", "--runs", "1", "--workers", "1"])
+    assert trial.exit_code == 0, trial.output
+    assert "walk (params)" in trial.output
+
+
+def test_walk_params_dataclass_is_frozen_so_candidates_never_share_state():
+    assert dataclasses.is_dataclass(WalkParams) and WalkParams.__dataclass_params__.frozen

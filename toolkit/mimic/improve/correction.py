@@ -1,0 +1,69 @@
+"""The low-dimensional correction of a learned model, baked into an ordinary model file.
+
+A learned motion has thousands of network weights; searching them with a few hundred noisy
+trial episodes is hopeless. ``mimic improve MODEL.mimic`` searches three small things instead:
+
+* a time warp ``rate``: the motion plays ``rate`` times faster (a kick's swing reaches the ball
+  sooner; a walk's gait period shortens);
+* per-joint offsets ``b_j`` [rad]: the reference of joint j moves by b_j throughout (e.g. the
+  support leg leans against the tip toward the kicking side);
+* per-joint gains ``g_j``: joint j's swing around the motion's mean output is scaled by g_j
+  (a larger or smaller swing of the kicking leg).
+
+So the corrected reference is ``q'_j(t) = mean_j + g_j (q_j(rate t) - mean_j) + b_j``, with
+``mean_j`` the network's output mean for joint j. All three are exact edits of the model's
+input mapping and output de-standardisation (``MotionModel``): time models get
+``input_offset_s / rate`` and ``input_scale_per_s * rate``, phase models ``period_s / rate``;
+outputs get ``output_std_j * g_j`` and ``output_mean_j + b_j``. The network weights stay as
+they were, and the corrected model is an ordinary ``.mimic`` file that every command plays;
+``source.correction`` in its metadata records the correction.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+
+from mimic.learn.model import MotionModel
+
+__all__ = ["corrected_model", "CORRECTION_KEY"]
+
+#: Where the correction is recorded in the model's metadata.
+CORRECTION_KEY = "correction"
+
+
+def corrected_model(model: MotionModel, rate: float, offsets_rad: np.ndarray,
+                    gains: np.ndarray, *, provenance: dict | None = None) -> MotionModel:
+    """``model`` with a time warp, per-joint offsets and gains baked in (module docstring).
+
+    Args:
+        rate: time warp (> 0; 1 = unchanged).
+        offsets_rad: (N,) reference offsets [rad], the model's joint order.
+        gains: (N,) swing gains around the output mean (1 = unchanged).
+        provenance: extra JSON-able facts recorded beside the correction.
+    """
+    n = model.num_joints if hasattr(model, "num_joints") else len(model.joint_names)
+    offsets_rad, gains = np.asarray(offsets_rad, float), np.asarray(gains, float)
+    if offsets_rad.shape != (n,) or gains.shape != (n,):
+        raise ValueError(f"offsets and gains need shape ({n},), got {offsets_rad.shape} "
+                         f"and {gains.shape}")
+    if not rate > 0:
+        raise ValueError(f"time warp rate must be > 0, got {rate}")
+    mean = np.array(model.output_mean, dtype=np.float64)
+    std = np.array(model.output_std, dtype=np.float64)
+    mean[:n] += offsets_rad
+    std[:n] *= gains
+    timing = (dict(period_s=model.period_s / rate) if model.cyclic else
+              dict(input_offset_s=model.input_offset_s / rate,
+                   input_scale_per_s=model.input_scale_per_s * rate,
+                   duration_s=model.duration_s / rate))
+    previous = model.metadata.get(CORRECTION_KEY)
+    record = {"rate": float(rate),
+              "offsets_rad": {j: float(b) for j, b in zip(model.joint_names, offsets_rad) if b},
+              "gains": {j: float(g) for j, g in zip(model.joint_names, gains) if g != 1.0},
+              **(provenance or {})}
+    if previous:  # a correction of a corrected model: keep the chain
+        record["previous"] = previous
+    return dataclasses.replace(model, output_mean=mean, output_std=std,
+                               metadata={**model.metadata, CORRECTION_KEY: record}, **timing)

@@ -1,0 +1,119 @@
+"""What ``mimic improve`` maximises: a score from trial episodes (the trials' own scenes, seeds
+and statistics), for kicks and for walks.
+
+* ``kick``: kick distance and accuracy: the mean over kicks of distance x success [m] (a kick
+  succeeds when the ball travels more than 2 m, the trials' rule), minus ``fall_penalty_m`` per
+  fall per kick. The search plays kick-trial episodes (walk to the ball, line up, kick, until a
+  goal) cut at ``search_limit_s`` of simulated time to spend the budget on kicks.
+* ``walk``: walk speed over the walk trial's 15 m [m/s], minus ``fall_penalty_m_s`` times the
+  share of runs that fell, minus ``drift_penalty_per_m`` per metre of sideways error beyond
+  ``drift_tolerance_m`` (mean over runs).
+
+Validation plays the trials unchanged (``trial_config``).
+"""
+
+from __future__ import annotations
+
+from dataclasses import asdict, dataclass, replace
+
+import numpy as np
+
+from mimic.errors import MimicError
+from mimic.trials.kick import SUCCESS_DISTANCE_M, KickTrialConfig, run_kick_episode
+from mimic.trials.parallel import EpisodeBatch
+from mimic.trials.report import kick_summary, walk_summary
+from mimic.trials.walk import WalkTrialConfig, run_walk_episode
+
+__all__ = ["KickObjective", "WalkObjective", "make_objective", "OBJECTIVES"]
+
+
+@dataclass(frozen=True)
+class KickObjective:
+    """Kick distance and accuracy (module docstring)."""
+
+    # Trial episodes per candidate evaluation.
+    episodes: int = 2
+    # Simulated time of one search episode [s] (the trial's episodes run up to 240 s).
+    search_limit_s: float = 60.0
+    # Score lost per fall per kick [m].
+    fall_penalty_m: float = 2.0
+    # The kick trial's settings (validation runs them unchanged).
+    trial_config: KickTrialConfig = KickTrialConfig()
+
+    name = "kick"
+    episode_fn = staticmethod(run_kick_episode)
+    summarise = staticmethod(kick_summary)
+
+    @property
+    def search_config(self) -> KickTrialConfig:
+        return replace(self.trial_config, episode_limit_s=self.search_limit_s)
+
+    def score(self, batch: EpisodeBatch) -> float:
+        """Mean distance x success [m] over the batch's kicks, minus the fall penalty."""
+        falls = sum(e["falls"] for e in batch.episodes)
+        kicks = len(batch.rows)
+        if kicks == 0:
+            return -self.fall_penalty_m * (1 + falls)
+        useful = np.mean([r["distance_m"] * (r["distance_m"] > SUCCESS_DISTANCE_M)
+                          for r in batch.rows])
+        return float(useful - self.fall_penalty_m * falls / kicks)
+
+    def describe(self) -> dict:
+        return dict(name=self.name, episodes=self.episodes, search_limit_s=self.search_limit_s,
+                    fall_penalty_m=self.fall_penalty_m, trial_config=asdict(self.trial_config))
+
+
+@dataclass(frozen=True)
+class WalkObjective:
+    """Walk speed with penalties for falls and drift (module docstring)."""
+
+    # Walk-trial runs per candidate evaluation.
+    episodes: int = 4
+    # Score lost per share of runs that fell [m/s] (one fall in 4 runs: -0.25 m/s).
+    fall_penalty_m_s: float = 1.0
+    # Sideways error allowed without penalty [m], and the penalty beyond it [m/s per m].
+    drift_tolerance_m: float = 0.3
+    drift_penalty_per_m: float = 0.5
+    # The walk trial's settings.
+    trial_config: WalkTrialConfig = WalkTrialConfig()
+
+    name = "walk"
+    episode_fn = staticmethod(run_walk_episode)
+    summarise = staticmethod(walk_summary)
+
+    @property
+    def search_config(self) -> WalkTrialConfig:
+        return self.trial_config
+
+    def score(self, batch: EpisodeBatch) -> float:
+        """Mean speed [m/s] minus the fall and drift penalties."""
+        runs = batch.rows
+        speed = np.mean([r["speed_m_s"] for r in runs])
+        fell = np.mean([r["fell"] for r in runs])
+        drift = np.mean([max(0.0, r["y_error_m"] - self.drift_tolerance_m) for r in runs])
+        return float(speed - self.fall_penalty_m_s * fell - self.drift_penalty_per_m * drift)
+
+    def describe(self) -> dict:
+        return dict(name=self.name, episodes=self.episodes,
+                    fall_penalty_m_s=self.fall_penalty_m_s,
+                    drift_tolerance_m=self.drift_tolerance_m,
+                    drift_penalty_per_m=self.drift_penalty_per_m,
+                    trial_config=asdict(self.trial_config))
+
+
+OBJECTIVES = {"kick": KickObjective, "walk": WalkObjective}
+
+
+def make_objective(name: str, episodes: int | None = None, **settings):
+    """The objective ``kick`` or ``walk`` with ``episodes`` per evaluation (default: its own).
+
+    Raises:
+        MimicError: unknown name, episodes < 1.
+    """
+    if name not in OBJECTIVES:
+        raise MimicError(f"unknown objective {name!r}; objectives: {', '.join(OBJECTIVES)}")
+    if episodes is not None:
+        if episodes < 1:
+            raise MimicError(f"--episodes must be >= 1, got {episodes}")
+        settings["episodes"] = episodes
+    return OBJECTIVES[name](**settings)

@@ -1,0 +1,129 @@
+"""One ``mimic improve`` run as a function: read the target, search, write, validate."""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from mimic.errors import MimicError
+from mimic.improve.objectives import make_objective
+from mimic.improve.search import SearchConfig, SearchResult, default_population, search
+from mimic.improve.targets import Target, load_target
+from mimic.improve.validation import validate
+from mimic.trials.api import TrialResult
+from mimic.trials.executors import Executor, make_executor
+from mimic.trials.report import write_summary
+
+__all__ = ["improve", "ImproveRun", "default_checkpoint", "PICKS"]
+
+#: Which candidate is written: the best scored in the search, or the optimiser's final mean.
+PICKS = ("best", "mean")
+
+
+@dataclass
+class ImproveRun:
+    """What a run produced."""
+
+    target: Target
+    objective: object
+    search: SearchResult
+    # The improved candidate's file (motion, model or parameter file) and its search point.
+    out: Path
+    z: object = None
+    # Held-out validation (None when skipped), and the files its table went to.
+    validation: TrialResult | None = None
+    files: list[Path] = field(default_factory=list)
+    # Wall times [s].
+    search_wall_s: float = 0.0
+    validation_wall_s: float = 0.0
+
+
+def default_checkpoint(out: Path) -> Path:
+    """Where a run writing ``out`` keeps its checkpoint: ``OUT.ckpt.json`` beside it."""
+    return out.with_name(out.name + ".ckpt.json")
+
+
+def improve(target: str, *, objective, budget: int, out: Path, seed: int = 0,
+            episodes: int | None = None, sigma: float = 1.0, population: int | None = None,
+            joints: str = "legs", pick: str = "best", validation_episodes: int = 0,
+            references: tuple[str, ...] = (), checkpoint: Path | None = None,
+            workers: int | None = None, ray: str | None = None,
+            executor: Executor | None = None,
+            on_generation: Callable[[SearchResult], None] | None = None,
+            on_validation: Callable | None = None, before_search: Callable | None = None
+            ) -> ImproveRun:
+    """Improve ``target`` (an agent spec: motion, ``.mimic`` model, engine or ``.json``
+    parameter file) for ``objective`` (``kick``/``walk``, or an objective from
+    ``improve.objectives`` with its own settings) with ``budget`` evaluations of
+    ``episodes`` trial episodes each; write the best candidate to ``out``; then validate it
+    against the target as it was (and ``references``) on ``validation_episodes`` held-out
+    episodes.
+
+    Episodes run on ``executor``, else on a pool of ``workers`` processes or on Ray (``ray``:
+    ``local`` or an address). ``checkpoint`` (default ``OUT.ckpt.json``) resumes a stopped run.
+    ``pick``: write the best candidate scored (``best``) or the optimiser's final mean
+    (``mean``: never scored in the search, steadier when scores are noisy); validation tells
+    which held up.
+    ``before_search(target, objective, population)`` is called once the inputs are checked.
+
+    Raises:
+        MimicError: bad target, objective, budget, out suffix, checkpoint or Ray address.
+    """
+    from mimic.agents.registry import agent_spec
+
+    out = Path(out)
+    tgt = load_target(target, joints=joints)
+    if out.suffix != tgt.suffix:
+        raise MimicError(f"-o {out}: a {tgt.kind} target is written as a {tgt.suffix} file; "
+                         f"give e.g. -o {out.with_suffix(tgt.suffix).name}")
+    obj = make_objective(objective, episodes) if isinstance(objective, str) else objective
+    if pick not in PICKS:
+        raise MimicError(f"--pick must be one of {', '.join(PICKS)}, got {pick!r}")
+    config = SearchConfig(budget=budget, seed=seed, sigma=sigma, population=population)
+    if validation_episodes < 0:
+        raise MimicError(f"--validate must be >= 0, got {validation_episodes}")
+    refs = [agent_spec(r) for r in references]
+    for spec in (tgt.baseline(), *refs):  # a kick objective needs kicks: fail before searching
+        if obj.name == "kick":
+            spec.ball_offset_m()
+    checkpoint = checkpoint or default_checkpoint(out)
+    pop = population or default_population(tgt.space.dim, budget)
+    if pop > budget:
+        raise MimicError(f"--budget {budget} is less than one generation ({pop} candidates); "
+                         "raise --budget or lower --population")
+    if executor is None:  # inputs are checked: start the workers
+        with make_executor(workers, ray) as own:
+            return improve(target, objective=objective, budget=budget, out=out, seed=seed,
+                           episodes=episodes, sigma=sigma, population=population,
+                           joints=joints, pick=pick, validation_episodes=validation_episodes,
+                           references=references, checkpoint=checkpoint, executor=own,
+                           on_generation=on_generation, on_validation=on_validation,
+                           before_search=before_search)
+    if before_search:
+        before_search(tgt, obj, pop)
+    start = time.perf_counter()
+    result = search(tgt, obj, config, executor=executor, checkpoint=checkpoint,
+                    progress=on_generation)
+    search_wall_s = time.perf_counter() - start
+    z, score, generation = result.best
+    if pick == "mean":
+        z = result.mean_z
+    provenance = dict(target=target, objective=obj.name, seed=seed,
+                      evaluations=result.evaluations, episodes_per_evaluation=obj.episodes,
+                      pick=pick, best_score=score, best_generation=generation,
+                      parameters=tgt.space.describe(z))
+    tgt.write(z, out, provenance)
+    run = ImproveRun(tgt, obj, result, out, z=z, search_wall_s=search_wall_s)
+    if validation_episodes:
+        improved = tgt.spec(z, label=f"{tgt.label} (improved)")
+        start = time.perf_counter()
+        run.validation = validate([*refs, tgt.baseline(), improved], obj, seed=seed,
+                                  episodes=validation_episodes, executor=executor,
+                                  search_episodes=result.search_episodes(obj.episodes),
+                                  trace_label=improved.label, progress=on_validation)
+        run.validation_wall_s = time.perf_counter() - start
+        run.files = write_summary(run.validation.summary,
+                                  out.with_name(out.stem + "_validation"))
+    return run
