@@ -21,7 +21,7 @@ from mimic.league.monitor import MonitorClient
 from mimic.league.player_writer import PlayerWriter
 from mimic.league.protocol import parse_address
 from mimic.league.rsmp import PlayerNode, SceneState
-from mimic.league.sigint import SigintFlag
+from mimic.sigint import SigintFlag
 from mimic.robot.league import LEAGUE_ROBOTS
 from mimic.robot.model import RobotDescription
 from mimic.robot.registry import get_robot

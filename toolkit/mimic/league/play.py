@@ -23,7 +23,7 @@ from mimic import __version__
 from mimic.agents.base import Agent
 from mimic.episode import Observer, Scene, run
 from mimic.league.errors import LeagueConnectionError, LeagueError
-from mimic.league.sigint import SigintFlag
+from mimic.sigint import SigintFlag
 from mimic.league.world import LeagueWorld, LeagueWorldConfig
 from mimic.recording import layout as L
 from mimic.recording.writer import RecordingWriter

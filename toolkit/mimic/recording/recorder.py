@@ -13,8 +13,6 @@ normally and marked interrupted.
 
 from __future__ import annotations
 
-import signal
-import threading
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
@@ -29,6 +27,7 @@ from mimic.errors import MimicError
 from mimic.geometry import quat_mul, rotate
 from mimic.recording import layout as L
 from mimic.recording.writer import RecordingWriter
+from mimic.sigint import SigintFlag
 from mimic.world.base import CYCLE_S, World
 from mimic.world.mujoco_world import MujocoWorld
 
@@ -146,26 +145,6 @@ def _ball_offset(agent: Agent, own: bool, given: tuple[float, float] | None):
     return None if offset is None else (float(offset[0]), float(offset[1]))
 
 
-class _SigintFlag:
-    """Turns SIGINT into a flag checked once per cycle (main thread only)."""
-
-    def __init__(self) -> None:
-        self.raised = False
-        self._old = None
-
-    def __enter__(self) -> _SigintFlag:
-        if threading.current_thread() is threading.main_thread():
-            self._old = signal.signal(signal.SIGINT, self._handle)
-        return self
-
-    def _handle(self, signum, frame) -> None:
-        self.raised = True
-
-    def __exit__(self, *exc) -> None:
-        if self._old is not None:
-            signal.signal(signal.SIGINT, self._old)
-
-
 def record(agent: str | Agent, out_path: str | Path, *, duration_s: float | None = None,
            seed: int = 0, observe_only: bool = False, warmup_s: float | None = None,
            ball_offset_m: tuple[float, float] | None = None,
@@ -220,7 +199,7 @@ def record(agent: str | Agent, out_path: str | Path, *, duration_s: float | None
         planned_cycles = int(round(config.max_duration_s / CYCLE_S)) + 1
     planned_s = (planned_cycles - 1) * CYCLE_S if (period_s or duration_s) else None
 
-    with _SigintFlag() as sigint, RecordingWriter(out_path, info, urdf=world.robot.urdf(),
+    with SigintFlag() as sigint, RecordingWriter(out_path, info, urdf=world.robot.urdf(),
                                                   flush_period_s=config.flush_period_s,
                                                   compression=compression) as writer:
         scene.setup(world, np.random.default_rng(seed))

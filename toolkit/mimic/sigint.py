@@ -1,4 +1,5 @@
-"""Ctrl-C as a flag: long league runs stop at the end of a cycle or frame, files finished."""
+"""Ctrl-C as a flag: long runs (recording, playing) stop at the end of a cycle or frame, with
+their files finished."""
 
 from __future__ import annotations
 
