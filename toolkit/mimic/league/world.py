@@ -42,7 +42,7 @@ from mimic.robot.actuators import JointCommand
 from mimic.robot.mjcf_reader import collision_geoms, geom_box_corners, load_model
 from mimic.robot.model import RobotDescription
 from mimic.robot.registry import get_robot
-from mimic.world.base import CYCLE_S, POSTURES, BodyPoses, Observation, World
+from mimic.world.base import CYCLE_S, POSTURES, BodyPoses, Observation, World, posture_quat
 from mimic.world.league_field import league_field
 
 __all__ = ["LeagueWorld", "LeagueWorldConfig"]
@@ -169,7 +169,7 @@ class LeagueWorld(World):
         monitor = self._need_monitor("placing the robot")
         pose = self.robot.zeros() if joint_angles_rad is None else \
             self.robot.check_vector(joint_angles_rad, "start pose")
-        quat = _posture_quat(yaw_rad, posture)
+        quat = posture_quat(yaw_rad, posture)
         z = self.config.drop_clearance_m - _lowest_point_m(self.robot, tuple(quat))
         monitor.place_player(self.team, self.player, (x_m, y_m, z), quat)
         hold = JointCommand.references(pose)
@@ -271,18 +271,6 @@ class LeagueWorld(World):
         self._last_sample = sample
         pos, quat = _world_poses(self.robot, sample.link_pos_m, sample.link_quat_wxyz)
         return BodyPoses(tuple(link.name for link in self.robot.links), pos, quat)
-
-
-def _posture_quat(yaw_rad: float, posture: str) -> np.ndarray:
-    """Root orientation for a heading and a posture (lying: pitched 90 degrees)."""
-    rot = np.zeros(4)
-    mujoco.mju_euler2Quat(rot, np.array([0.0, 0.0, yaw_rad]), "xyz")
-    if posture != "standing":
-        pitch = math.pi / 2 if posture == "lying_front" else -math.pi / 2
-        tilt = np.zeros(4)
-        mujoco.mju_euler2Quat(tilt, np.array([0.0, pitch, 0.0]), "xyz")
-        mujoco.mju_mulQuat(rot, rot, tilt)
-    return rot
 
 
 @cache

@@ -18,13 +18,30 @@ from mimic.robot.actuators import JointCommand
 from mimic.robot.model import RobotDescription
 from mimic.world.field import Field
 
-__all__ = ["World", "Observation", "CYCLE_S", "BodyPoses", "POSTURES"]
+__all__ = ["World", "Observation", "CYCLE_S", "BodyPoses", "POSTURES", "posture_quat"]
 
 #: The agent cycle [s]: agents see the world and command the joints at 50 Hz, in both the
 #: study's simulator and the league's.
 CYCLE_S = 0.02
 #: How a robot can be put down: standing, or lying on its front or back (get-ups).
 POSTURES = ("standing", "lying_front", "lying_back")
+
+
+def posture_quat(yaw_rad: float, posture: str) -> np.ndarray:
+    """(4,) root orientation for a heading [rad] and a posture (lying: pitched 90 degrees
+    onto the front or the back)."""
+    import mujoco
+
+    if posture not in POSTURES:
+        raise ValueError(f"posture must be one of {', '.join(POSTURES)}, got {posture!r}")
+    rot = np.zeros(4)
+    mujoco.mju_euler2Quat(rot, np.array([0.0, 0.0, yaw_rad]), "xyz")
+    if posture != "standing":
+        pitch = math.pi / 2 if posture == "lying_front" else -math.pi / 2
+        tilt = np.zeros(4)
+        mujoco.mju_euler2Quat(tilt, np.array([0.0, pitch, 0.0]), "xyz")
+        mujoco.mju_mulQuat(rot, rot, tilt)
+    return rot
 
 
 @dataclass

@@ -6,15 +6,13 @@ qpos/qvel/ctrl are resolved once from the model's names (never hard-coded) and a
 
 from __future__ import annotations
 
-import math
-
 import mujoco
 import numpy as np
 
 from mimic.robot.actuators import JointCommand
 from mimic.robot.model import RobotDescription
 from mimic.robot.registry import get_robot
-from mimic.world.base import CYCLE_S, POSTURES, BodyPoses, Observation, World
+from mimic.world.base import CYCLE_S, BodyPoses, Observation, World, posture_quat
 from mimic.world.field import Field, field_for_robot
 from mimic.world.scene import FOOT_TOUCH_SENSORS, PhysicsConfig, build_model
 
@@ -79,21 +77,13 @@ class MujocoWorld(World):
     def place_robot(self, x_m: float, y_m: float, yaw_rad: float = 0.0,
                     joint_angles_rad: np.ndarray | None = None, *,
                     posture: str = "standing") -> None:
-        if posture not in POSTURES:
-            raise ValueError(f"posture must be one of {', '.join(POSTURES)}, got {posture!r}")
         d = self.data
         q = self.robot.zeros() if joint_angles_rad is None else \
             self.robot.check_vector(joint_angles_rad, "start pose")
         d.qpos[self.qpos_idx] = q
         d.qvel[self._root_v:self._root_v + 6] = 0.0
         d.qvel[self.qvel_idx] = 0.0
-        rot = np.zeros(4)
-        mujoco.mju_euler2Quat(rot, np.array([0.0, 0.0, yaw_rad]), "xyz")
-        if posture != "standing":
-            pitch = math.pi / 2 if posture == "lying_front" else -math.pi / 2
-            tilt = np.zeros(4)
-            mujoco.mju_euler2Quat(tilt, np.array([0.0, pitch, 0.0]), "xyz")
-            mujoco.mju_mulQuat(rot, rot, tilt)
+        rot = posture_quat(yaw_rad, posture)
         d.qpos[self._root_q:self._root_q + 3] = (x_m, y_m, 1.0)
         d.qpos[self._root_q + 3:self._root_q + 7] = rot
         mujoco.mj_kinematics(self.model, self.data)
