@@ -67,9 +67,7 @@ def improve_blueprint(run) -> rrb.Blueprint:
 
 
 def save_improve(run, path: Path) -> None:
-    """Write the run to an .rrd file with its blueprint."""
+    """Write the run to an .rrd file with its blueprint (moved into place when complete)."""
+    from mimic.viz.save import save_rrd
     rec = rr.RecordingStream("mimic_improve")
-    rec.save(str(path), default_blueprint=improve_blueprint(run))
-    log_improve(rec, run)
-    rec.flush()
-    rec.disconnect()
+    save_rrd(rec, path, lambda: log_improve(rec, run), blueprint=improve_blueprint(run))

@@ -14,7 +14,6 @@ import rerun as rr
 import rerun.blueprint as rrb
 
 from mimic.errors import MimicError
-from mimic.files import PendingOutput
 from mimic.learn.compensate import compensate_references
 from mimic.recording.layout import (
     BALL_FRAME,
@@ -30,6 +29,7 @@ from mimic.robot.model import RobotDescription
 from mimic.viz.curves import curves_blueprint, joint_columns, log_joint_table
 from mimic.viz.gait import centre_of_mass_path, footsteps
 from mimic.viz.paths import WORLD, time_column
+from mimic.viz.save import save_rrd
 from mimic.viz.scene import log_ball_poses, log_body_poses, log_field, log_robot_geometry
 
 __all__ = ["log_recording", "recording_blueprint", "view_recording", "ENDED_PATH"]
@@ -185,15 +185,5 @@ def view_recording(path: str | Path, *, model: str | Path | None = None,
         logged = log_recording(rec, recording, model=loaded)
         rec.flush()
         return logged
-    pending = PendingOutput(save, overwrite=overwrite)
-    try:
-        rec.save(str(pending.tmp), default_blueprint=recording_blueprint())
-        logged = log_recording(rec, recording, model=loaded)
-        rec.flush()
-    except BaseException:
-        rec.disconnect()
-        pending.discard()
-        raise
-    rec.disconnect()
-    pending.commit()
-    return logged
+    return save_rrd(rec, save, lambda: log_recording(rec, recording, model=loaded),
+                    blueprint=recording_blueprint(), overwrite=overwrite)

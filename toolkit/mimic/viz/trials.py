@@ -109,19 +109,10 @@ def trial_blueprint(result) -> rrb.Blueprint:
 def save_trial_dashboard(result, path: Path, *, overwrite: bool = True) -> None:
     """Write the dashboard of a trial to an .rrd file with its blueprint (under a temporary
     name, moved into place when complete: ``mimic.files``)."""
-    from mimic.files import PendingOutput
-    pending = PendingOutput(path, overwrite=overwrite)
+    from mimic.viz.save import save_rrd
     rec = rr.RecordingStream("mimic_trial")
-    try:
-        rec.save(str(pending.tmp), default_blueprint=trial_blueprint(result))
-        log_trial(rec, result)
-        rec.flush()
-    except BaseException:
-        rec.disconnect()
-        pending.discard()
-        raise
-    rec.disconnect()
-    pending.commit()
+    save_rrd(rec, path, lambda: log_trial(rec, result), blueprint=trial_blueprint(result),
+             overwrite=overwrite)
 
 
 def show_trial_dashboard(result) -> None:
