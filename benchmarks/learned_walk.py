@@ -29,6 +29,7 @@ from mimic.agents.registry import AgentSpec
 from mimic.learn.model_file import save_model
 from mimic.learn.train import TrainConfig, train_model, training_dataset
 from mimic.recording.recorder import record
+from mimic.robot.registry import DEFAULT_ROBOT
 from mimic.trials.api import walk_trial
 from mimic.trials.parallel import derive_seed
 from mimic.trials.report import with_ratios
@@ -45,6 +46,7 @@ class _OldStart:
 
     ref: str
     label: str = "compensated + balance, old start"
+    robot: str = DEFAULT_ROBOT  # the robot the episode builds its world for (as AgentSpec)
 
     def build(self):
         from mimic.agents.balance import BalancedAgent

@@ -1,6 +1,6 @@
 """Benchmark the other team's walk (15 m, own goal line to centre line) and kick.
 
-    /work/venv/bin/python benchmarks/other_team_walk.py [--walk-runs 3] [--kick-runs 5]
+    python benchmarks/other_team_walk.py [--walk-runs 3] [--kick-runs 5]
 
 Walk: 3 seeded runs (speed-command noise 0.05 rad/s, the first noise-free): speed after the
 first metre, largest lateral drift, falls, and how much the last two gait periods' joint

@@ -7,7 +7,7 @@ With ``--stop-goto`` it also measures stopping (from full speed: time to rest, d
 travelled after the stop command, final pose error against the stand pose) and go-to-pose
 accuracy (position [cm] and heading [deg] error on arrival, time, falls) for a few targets.
 
-    /work/venv/bin/python benchmarks/walk_speed.py [--runs 5] [--speed 0.45] [--stop-goto]
+    python benchmarks/walk_speed.py [--runs 5] [--speed 0.45] [--stop-goto]
 """
 
 from __future__ import annotations
@@ -32,7 +32,7 @@ def walk_15m(world: World, seed: int, speed_m_s: float, timeout_s: float = 90.0)
     start_x = -FIELD_LENGTH_M / 2
     world.reset()
     world.place_robot(start_x + rng.uniform(-0.005, 0.005), rng.uniform(-0.005, 0.005),
-               math.radians(rng.uniform(-1, 1)), nao().stand_pose())
+                      math.radians(rng.uniform(-1, 1)), nao().stand_pose())
     agent = make_walk_agent(speed_m_s)
     agent.reset(world.observe())
     act_s = step_s = 0.0
@@ -69,7 +69,8 @@ def stop_from_speed(world: World, seed: int, speed_m_s: float, walk_s: float = 6
     """Walk ``walk_s`` at ``speed_m_s``, call stop(); time and distance until standing."""
     rng = np.random.default_rng(seed)
     world.reset()
-    world.place_robot(-FIELD_LENGTH_M / 2, 0.0, math.radians(rng.uniform(-1, 1)), nao().stand_pose())
+    world.place_robot(-FIELD_LENGTH_M / 2, 0.0, math.radians(rng.uniform(-1, 1)),
+                      nao().stand_pose())
     agent = make_walk_agent(speed_m_s)
     agent.reset(world.observe())
     fell = False
@@ -88,7 +89,8 @@ def stop_from_speed(world: World, seed: int, speed_m_s: float, walk_s: float = 6
     return dict(seed=seed, fell=fell, standing=agent.state == "standing" and agent.done,
                 time_to_rest_s=t_rest if t_rest is not None else float("nan"),
                 distance_after_stop_m=world.torso_pos_m()[0] - x0,
-                pose_error_deg=math.degrees(np.abs(obs.joint_angles_rad - nao().stand_pose()).max()))
+                pose_error_deg=math.degrees(
+                    np.abs(obs.joint_angles_rad - nao().stand_pose()).max()))
 
 
 GOTO_CASES = (  # (start x, y, yaw [deg]) -> target (x, y, heading [deg])
