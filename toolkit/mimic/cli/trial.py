@@ -31,15 +31,19 @@ _RERUN = typer.Option("--rerun", help="Open the same dashboard in a Rerun viewer
 _SAVE_HELP = ("Save a Rerun dashboard (.rrd): curves, histogram, episode markers, the first "
               "episode of each variant in 3D.")
 _SEED = typer.Option(help="Seed (0 .. 2**32-1); the same seed gives the same table.")
+_WORLD = typer.Option(help="Where episodes play: mujoco (ours; also 'nao') or league (a "
+                      "league server mimic hosts per episode: sync, no real time, free ports).")
+_ROBOT = typer.Option(help="The robot (mimic robots); default: nao in our world, t1 in the "
+                      "league.", show_default=False)
 
 #: Without a terminal (a pipe, a log file), a progress line is printed at most this often [s].
 PLAIN_PROGRESS_EVERY_S = 5.0
 
 
-def _specs(variants, compare, motion, model, balance, speed_rate, default):
+def _specs(variants, compare, motion, model, balance, speed_rate, default, robot="nao"):
     from mimic.agents.registry import agent_spec
     names = list(variants or []) + [n for n in (motion, model) if n]
-    specs = [agent_spec(n, speed_rate=speed_rate) for n in names or [default]]
+    specs = [agent_spec(n, speed_rate=speed_rate, robot=robot) for n in names or [default]]
     if compare and len(names) < 2:
         raise MimicError("--compare needs at least two variants, e.g. "
                          "--compare kick_right models/kick_right.mimic")
@@ -143,6 +147,17 @@ def _number(column: str, value) -> str:
     return f"{value:.2f}" if column.endswith("_ratio") else f"{value:.3g}"
 
 
+def _world_text(result) -> str:
+    """How the table's episodes were played, for its title: the world and, for kicks, how
+    the robot reached the ball."""
+    row = result.summary.row(0, named=True)
+    world = {"league": "league world (RCSSServerMJ)", "mujoco": "our MuJoCo world"}.get(
+        row.get("world"), "our MuJoCo world")
+    reach = {"place": "robot placed behind the ball after each kick",
+             "walk": "robot walks to the ball"}.get(row.get("reach"))
+    return world + (f", {reach}" if reach else "")
+
+
 def _print(result, title: str) -> None:
     shown = {c: h for c, h in _SHOWN[result.kind].items() if c in result.summary.columns}
     # Headers on two lines, no vertical rules, no edges: a whole kick table, confidence
@@ -206,17 +221,28 @@ def kick(
     force: Annotated[bool, FORCE] = False,
     ray: Annotated[bool, RAY] = False,
     ray_address: Annotated[str | None, RAY_ADDRESS] = None,
+    world: Annotated[str, _WORLD] = "mujoco",
+    robot: Annotated[str | None, _ROBOT] = None,
 ) -> None:
-    """Kick trial: kick toward the goal, walk to the ball, kick again until a goal; repeat."""
+    """Kick trial: kick toward the goal, reach the ball (walk there, or be placed behind it),
+    kick again until a goal; repeat."""
     from mimic.trials.api import kick_trial
+    from mimic.trials.kick import KickTrialConfig
+    from mimic.trials.worlds import default_robot, world_kind
     save = save_path(save, save_old)
-    specs = _specs(variants, compare, motion, model, balance, 1.0, "kick_right")
-    _check("kick", specs, out, save, force, minutes=minutes, seed=seed, workers=workers)
+    world = world_kind(world)
+    specs = _specs(variants, compare, motion, model, balance, 1.0, "kick_right",
+                   robot or default_robot(world))
+    config = KickTrialConfig(world=world)
+    _check("kick", specs, out, save, force, minutes=minutes, seed=seed, workers=workers,
+           config=config)
     with open_executor(workers, ray, ray_address) as executor, \
             TrialProgress(minutes, None) as progress:
         result = kick_trial(specs, minutes=minutes, seed=seed, executor=executor, out=out,
-                            progress=progress, trace=bool(save or rerun), overwrite=force)
-    _print(result, f"kick trial, {minutes:g} simulated min per variant, seed {seed}")
+                            progress=progress, trace=bool(save or rerun), overwrite=force,
+                            config=config)
+    _print(result, f"kick trial, {minutes:g} simulated min per variant, seed {seed}; "
+           f"{_world_text(result)}")
     _dashboard(result, save, rerun, force)
 
 
@@ -244,25 +270,56 @@ def walk(
     force: Annotated[bool, FORCE] = False,
     ray: Annotated[bool, RAY] = False,
     ray_address: Annotated[str | None, RAY_ADDRESS] = None,
+    world: Annotated[str, _WORLD] = "mujoco",
+    robot: Annotated[str | None, _ROBOT] = None,
 ) -> None:
-    """Walk trial: from the own goal line to the centre line (15 m), repeated."""
+    """Walk trial from a standing start, straight ahead (our world: own goal line to centre
+    line, 15 m; the league: 10 m through the centre spot), repeated."""
     from mimic.trials.api import walk_trial
+    from mimic.trials.walk import WalkTrialConfig
+    from mimic.trials.worlds import default_robot, world_kind
     save = save_path(save, save_old)
     if minutes is not None and runs is not None:
         raise MimicError("give --minutes or --runs, not both")
-    specs = _specs(variants, compare, motion, model, balance, speed_rate, "walk")
+    world = world_kind(world)
+    robot = robot or default_robot(world)
+    specs = _specs(variants, compare, motion, model, balance, speed_rate,
+                   "walk" if robot == "nao" else "other-team-walk", robot)
     if minutes is None and runs is None:
         runs = 10
+    config = WalkTrialConfig(world=world)
     _check("walk", specs, out, save, force, minutes=minutes, runs=runs, seed=seed,
-           workers=workers)
+           workers=workers, config=config)
     with open_executor(workers, ray, ray_address) as executor, \
             TrialProgress(minutes, runs) as progress:
         result = walk_trial(specs, minutes=minutes, runs=runs, seed=seed, executor=executor,
                             out=out, progress=progress, trace=bool(save or rerun),
-                            overwrite=force)
-    _print(result, f"walk trial (15 m), seed {seed}")
+                            overwrite=force, config=config)
+    start_x, finish_x = config.course_m()
+    _print(result, f"walk trial ({finish_x - start_x:g} m from a standing start), seed {seed}; "
+           f"{_world_text(result)}")
     _dashboard(result, save, rerun, force)
+
+
+def _bench_league(
+    seconds: Annotated[float, typer.Option(help="Simulated seconds per world, > 0.")] = 20.0,
+    kick: Annotated[str | None, typer.Option(
+        help="The T1's kick (motion name or file; default: its shipped kick_right, else it "
+             "stands).", show_default=False)] = None,
+) -> None:
+    """Real-time factor of the league world beside our MuJoCo world's, the same work in one
+    run (stand, kick, stand while the ball rolls)."""
+    from mimic import options
+    from mimic.trials.world_speed import bench_worlds, format_world_speeds
+    options.finite(seconds, "--seconds", above=0)
+    rows = bench_worlds(seconds=seconds, kicks={"t1": kick} if kick else None)
+    console.print(format_world_speeds(rows), highlight=False)
+    console.print("RTF: simulated s per wall s; RTF+start: with opening and closing the world "
+                  "(the league's: hosting and joining a server, once per trial episode).",
+                  style="dim", highlight=False)
 
 
 def register(app: typer.Typer) -> None:
     app.add_typer(trial_app, name="trial")
+    from mimic.cli.train import bench_app
+    bench_app.command("league")(reports_errors(_bench_league))

@@ -9,10 +9,15 @@ run in the league unchanged (``mimic.episode.run``).
   touch sensors in the league, so ``foot_forces_n`` is zero. The ball and ``body_poses`` come
   from the monitor stream (25 Hz, the scene graph decoded through the robot's tree).
 * ``time_s`` counts cycles since ``reset`` (the server reports its clock truncated to 0.01 s).
+  ``reset`` starts on a cycle the monitor shows (every second one), so the ball and bodies are
+  seen the same way in every episode, whatever the server's clock when the player joined.
 * ``place_robot`` sends ``(agent (unum N)(team T)(move3d X Y Z Q))``: the server puts the robot
   there with every joint at zero, so the world then steps, commanding the requested pose,
   until the robot shows up at the new place (a few cycles of server time). ``place_ball``
-  sends ``(ball (pos X Y R)(vel 0 0 0))``.
+  sends ``(ball (pos X Y R)(vel 0 0 0))``. The server takes monitor commands in its own thread,
+  in whichever cycle they reach its queue; the world waits ``command_settle_s`` before and after
+  each one (the server blocks on our next action meanwhile), so a command takes effect in the
+  same cycle every time and a seeded episode repeats exactly on a fresh server.
 * Play mode: the game is left in ``BeforeKickOff``. Motors obey in every play mode, and before
   the kick-off the referee penalises nobody (no relocation of a robot that lies too long or
   stands in the wrong half). The referee still watches the ball: a ball over a line is put
@@ -25,6 +30,7 @@ agent answers). Close the world (or use it as a context manager) to stop it.
 from __future__ import annotations
 
 import math
+import time
 from dataclasses import dataclass
 from functools import cache
 
@@ -63,6 +69,9 @@ class LeagueWorldConfig:
     place_tolerance_m: float = 0.05
     # How long to wait for the server's answer to a command, wall clock [s].
     receive_timeout_s: float = 10.0
+    # Wall-clock pause before and after each monitor command [s]: the server's current cycle
+    # ends and its monitor thread queues the command before our next action arrives.
+    command_settle_s: float = 0.02
 
 
 class LeagueWorld(World):
@@ -158,8 +167,26 @@ class LeagueWorld(World):
 
     # --- placing things -------------------------------------------------------------------
     def reset(self) -> None:
-        """Start counting time again (the server's game goes on; scenes place everything)."""
+        """Start counting time again (the server's game goes on; scenes place everything),
+        on a cycle with a monitor frame (one step holding the joints where they are, if
+        needed)."""
+        if self._server_cycle() % 2:
+            self.step(JointCommand.references(self._perception.joint_angles_rad))
         self._origin_cycle = self._server_cycle()
+
+    def play_mode(self) -> str:
+        """The referee's play mode as the monitor shows it (``BeforeKickOff`` until a goal or
+        the ball leaving the field changes it; ``Goal_Left``, ``KickIn_Right``, ...)."""
+        from rcsssmj.games.soccer.play_mode import PlayMode
+
+        index = self._synced_monitor("the play mode").state.game.get("play_mode", "0")
+        return list(PlayMode)[int(index)].value
+
+    def _command(self, send) -> None:
+        """Send one monitor command so that it takes effect with our next action."""
+        time.sleep(self.config.command_settle_s)
+        send()
+        time.sleep(self.config.command_settle_s)
 
     def place_robot(self, x_m: float, y_m: float, yaw_rad: float = 0.0,
                     joint_angles_rad: np.ndarray | None = None, *,
@@ -171,7 +198,7 @@ class LeagueWorld(World):
             self.robot.check_vector(joint_angles_rad, "start pose")
         quat = posture_quat(yaw_rad, posture)
         z = self.config.drop_clearance_m - _lowest_point_m(self.robot, tuple(quat))
-        monitor.place_player(self.team, self.player, (x_m, y_m, z), quat)
+        self._command(lambda: monitor.place_player(self.team, self.player, (x_m, y_m, z), quat))
         hold = JointCommand.references(pose)
         for _ in range(max(1, round(self.config.place_timeout_s / CYCLE_S))):
             self.step(hold)
@@ -184,7 +211,7 @@ class LeagueWorld(World):
     def place_ball(self, x_m: float, y_m: float) -> None:
         monitor = self._need_monitor("placing the ball")
         pos = np.array([x_m, y_m, self.field.ball_radius_m])
-        monitor.place_ball(pos)
+        self._command(lambda: monitor.place_ball(pos))
         self._pending_ball = (pos, self.server_time_s)
         self._ball_track.clear()
 
@@ -227,12 +254,13 @@ class LeagueWorld(World):
         return self._perception.torso_quat_wxyz.copy()
 
     def _synced_monitor(self, what: str) -> MonitorClient:
-        """The monitor, with every frame up to the current perception applied (frames come
-        every second cycle, each sent before the next perception)."""
+        """The monitor, with the frame of the current perception's cycle applied, or on a cycle
+        without one, the next cycle's (frames come every second cycle; the server steps and
+        sends that frame right after our perception, without waiting for our answer). Waiting
+        for a fixed frame keeps what the world sees of the ball independent of timing."""
         monitor = self._need_monitor(what)
         monitor.drain()
-        monitor.wait_until(self.server_time_s - CYCLE_S - 1e-6,
-                           timeout_s=self.config.receive_timeout_s)
+        monitor.wait_until(self.server_time_s - 1e-6, timeout_s=self.config.receive_timeout_s)
         return monitor
 
     def ball_pos_m(self) -> np.ndarray:

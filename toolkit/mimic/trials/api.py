@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import asdict, dataclass, field
+from dataclasses import asdict, dataclass, field, replace
 from pathlib import Path
 
 import polars as pl
@@ -23,6 +23,7 @@ from mimic.trials.report import (
     write_summary,
 )
 from mimic.trials.walk import WalkTrialConfig, run_walk_episode
+from mimic.trials.worlds import MUJOCO, check_world, world_kind
 
 __all__ = ["TrialResult", "kick_trial", "walk_trial", "check_trial", "check_variants",
            "trial_files"]
@@ -68,10 +69,12 @@ def check_variants(kind: str, specs: list[AgentSpec]) -> None:
 
 
 def check_trial(kind: str, specs: list[AgentSpec], *, minutes: float | None = None,
-                runs: int | None = None, seed: int = 0, workers: int | None = None) -> None:
+                runs: int | None = None, seed: int = 0, workers: int | None = None,
+                config: KickTrialConfig | WalkTrialConfig | None = None) -> None:
     """Everything a trial checks before its first episode: options in range (``--minutes``
-    finite and > 0, ``--runs`` and ``--workers`` >= 1, a seed numpy accepts) and every variant
-    (``check_variants``).
+    finite and > 0, ``--runs`` and ``--workers`` >= 1, a seed numpy accepts), the world
+    (``config.world``: it plays every variant's robot; a kick's way to the ball suits the
+    robot) and every variant (``check_variants``).
 
     Raises:
         MimicError: the first problem, in one line naming the option or the variant.
@@ -80,6 +83,13 @@ def check_trial(kind: str, specs: list[AgentSpec], *, minutes: float | None = No
     options.count(runs, "--runs")
     options.seed(seed)
     options.workers(workers)
+    world = world_kind(getattr(config, "world", MUJOCO))
+    for spec in specs:
+        check_world(world, spec.robot)
+        if kind == "kick" and config is not None:
+            from mimic.trials.kick import reach_method
+
+            reach_method(config, spec.robot)
     check_variants(kind, specs)
 
 
@@ -88,7 +98,8 @@ def _run(kind: str, episode_fn: Callable, summarise: Callable, specs: list[Agent
          executor: Executor | None, out: Path | None,
          progress: Callable[[str, EpisodeBatch], None] | None, trace: bool,
          overwrite: bool) -> TrialResult:
-    check_trial(kind, specs, minutes=minutes, runs=runs, seed=seed, workers=workers)
+    check_trial(kind, specs, minutes=minutes, runs=runs, seed=seed, workers=workers,
+                config=config)
     if out is not None and not overwrite:
         from mimic.files import check_outputs
         check_outputs(trial_files(out))
@@ -138,9 +149,12 @@ def kick_trial(specs: list[AgentSpec], *, minutes: float = 30.0, seed: int = 0,
                workers: int | None = None, out: Path | None = None,
                config: KickTrialConfig = KickTrialConfig(), progress=None,
                trace: bool = False, executor: Executor | None = None,
-               overwrite: bool = True) -> TrialResult:
+               overwrite: bool = True, world: str | None = None) -> TrialResult:
     """Kick trial of each variant for ``minutes`` simulated minutes under the same seeds
     (whole episodes that end within the budget).
+
+    ``world``: where the episodes play (``mujoco`` or ``league``; None: ``config.world``);
+    in the league every episode hosts its own server (``trials.worlds``).
 
     ``trace``: keep the first episode of each variant as a pose trace (``result.traces``).
     ``executor``: where episodes run (``trials.executors``: pool or Ray); default a pool of
@@ -151,6 +165,8 @@ def kick_trial(specs: list[AgentSpec], *, minutes: float = 30.0, seed: int = 0,
         MimicError: an option out of range, a variant that cannot be built (checked for every
             variant before the first episode), an output that exists (``overwrite`` False).
     """
+    if world is not None:
+        config = replace(config, world=world_kind(world))
     return _run("kick", run_kick_episode, kick_summary, specs, config, minutes=minutes, runs=None,
                 seed=seed, workers=workers, executor=executor, out=out, progress=progress,
                 trace=trace, overwrite=overwrite)
@@ -160,12 +176,15 @@ def walk_trial(specs: list[AgentSpec], *, minutes: float | None = None, runs: in
                seed: int = 0, workers: int | None = None, out: Path | None = None,
                config: WalkTrialConfig = WalkTrialConfig(), progress=None,
                trace: bool = False, executor: Executor | None = None,
-               overwrite: bool = True) -> TrialResult:
-    """Walk trial (own goal line to centre line) of each variant, by minutes or run count.
+               overwrite: bool = True, world: str | None = None) -> TrialResult:
+    """Walk trial (from a standing start, straight ahead: our world's own goal line to the
+    centre line, 15 m; the league's 10 m course) of each variant, by minutes or run count.
 
     ``trace``: keep the first run of each variant as a pose trace (``result.traces``).
-    ``executor``, ``overwrite``, Raises: as ``kick_trial``.
+    ``executor``, ``overwrite``, ``world``, Raises: as ``kick_trial``.
     """
+    if world is not None:
+        config = replace(config, world=world_kind(world))
     if minutes is not None and runs is not None:
         raise MimicError("give --minutes or --runs, not both")
     if minutes is None and runs is None:

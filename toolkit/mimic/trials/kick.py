@@ -1,24 +1,36 @@
-"""The kick trial: ball at the centre spot, kick toward the goal, walk to the ball, kick
+"""The kick trial: ball at the centre spot, kick toward the goal, reach the ball, kick
 again, until a goal; then reset and repeat. One episode is one call of ``run_kick_episode``.
+
+The episode plays in the world ``config.world`` names (``trials.worlds``: ours or the league's
+server). The ball starts ``start_goal_distance_m`` before the opponent goal line of that world's
+field (15 m: the centre spot of the study's 30 m field). The robot reaches the ball
+(``config.reach``) by walking there with our walk engine (the NAO) or by being placed behind it
+facing the goal, with the same small noise as the start (``place``, as a beam: any robot, any
+world; after a fall it is placed standing again). In the league the referee ends a kick when it
+acts: a goal, or a ball over a line that it puts back for a throw-in or a goal kick.
 """
 
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
 
 from mimic.agents.registry import AgentSpec
 from mimic.episode import Episode, PoseNoise, PoseTrace, Scene
-from mimic.world import field as F
+from mimic.episode.scene import BALL_ASIDE_M
+from mimic.trials.worlds import MUJOCO, open_world, world_kind
 from mimic.world.base import World
-from mimic.world.mujoco_world import MujocoWorld
 
-__all__ = ["KickTrialConfig", "run_kick_episode", "kick_scene", "SUCCESS_DISTANCE_M"]
+__all__ = ["KickTrialConfig", "run_kick_episode", "kick_scene", "SUCCESS_DISTANCE_M",
+           "REACH_METHODS", "reach_method"]
 
 #: A kick counts as successful when the ball travels farther than this (the study's rule) [m].
 SUCCESS_DISTANCE_M = 2.0
+#: How the robot gets back to the ball: walking (our walk engine) or placed behind it.
+REACH_METHODS = ("walk", "place")
 
 
 @dataclass(frozen=True)
@@ -48,22 +60,56 @@ class KickTrialConfig:
     start_noise_joint_rad: float = math.radians(1)
     # Keep a pose trace of the episode (robot bodies and ball) for the Rerun replay.
     trace: bool = False
+    # Where episodes play (``trials.worlds``): ``mujoco`` (ours) or ``league`` (RCSSServerMJ).
+    world: str = MUJOCO
+    # How the robot reaches the ball (``REACH_METHODS``); ``auto``: walk for the NAO in our
+    # world, place otherwise (the walk engine is the NAO's).
+    reach: str = "auto"
+    # The ball's first spot lies this far before the opponent goal line, on the field's axis
+    # [m] (15 m: the study's centre spot).
+    start_goal_distance_m: float = 15.0
+    # League only: the command that starts the server (None: ``python -m rcsssmj``).
+    server_command: tuple[str, ...] | None = None
 
 
-def _direction_error_rad(start_xy: np.ndarray, end_xy: np.ndarray) -> float:
+def reach_method(config: KickTrialConfig, robot: str) -> str:
+    """How this trial reaches the ball with this robot (``config.reach`` resolved).
+
+    Raises:
+        MimicError: ``walk`` for a robot our walk engine cannot drive, or an unknown method.
+    """
+    from mimic.errors import MimicError
+
+    if config.reach == "auto":
+        return "walk" if robot == "nao" and world_kind(config.world) == MUJOCO else "place"
+    if config.reach not in REACH_METHODS:
+        raise MimicError(f"unknown way to reach the ball {config.reach!r}; one of: auto, "
+                         f"{', '.join(REACH_METHODS)}")
+    if config.reach == "walk" and robot != "nao":
+        raise MimicError(f"our walk engine drives the NAO only, not the {robot}; reach the ball "
+                         "with 'place'")
+    if config.reach == "walk" and world_kind(config.world) != MUJOCO:
+        raise MimicError("walking to the ball needs our MuJoCo world (the NAO); in the league "
+                         "the robot is placed behind the ball")
+    return config.reach
+
+
+def _direction_error_rad(start_xy: np.ndarray, end_xy: np.ndarray, goal_x_m: float) -> float:
     """Angle between the ball's travel and the line from its start to the goal centre."""
     travel = end_xy - start_xy
-    to_goal = np.array([F.OPPONENT_GOAL_X_M, 0.0]) - start_xy
+    to_goal = np.array([goal_x_m, 0.0]) - start_xy
     if np.linalg.norm(travel) < 1e-6:
         return math.pi
     cos = travel @ to_goal / (np.linalg.norm(travel) * np.linalg.norm(to_goal))
     return float(math.acos(max(-1.0, min(1.0, cos))))
 
 
-def kick_scene(offset_m, config: KickTrialConfig) -> Scene:
-    """Robot behind the centre spot facing the opponent goal, settled in its stand; then the
-    ball at the kick's offset from the settled torso (the feet move a little while settling)."""
-    return Scene(robot_xy_m=(-offset_m[0], -offset_m[1]), ball_offset_m=tuple(offset_m),
+def kick_scene(offset_m, config: KickTrialConfig, goal_x_m: float) -> Scene:
+    """Robot behind the start spot facing the opponent goal (line at ``goal_x_m``), settled in
+    its stand; then the ball at the kick's offset from the settled torso (the feet move a
+    little while settling)."""
+    start_x = goal_x_m - config.start_goal_distance_m
+    return Scene(robot_xy_m=(start_x - offset_m[0], -offset_m[1]), ball_offset_m=tuple(offset_m),
                  ball_after_settle=True, settle_s=0.5, settle_into_stand=True,
                  noise=PoseNoise(position_m=config.start_noise_pos_m,
                                  yaw_rad=config.start_noise_yaw_rad,
@@ -77,7 +123,8 @@ def _ball_in_robot_frame(world: World) -> np.ndarray:
     return np.array([c * d[0] + s * d[1], -s * d[0] + c * d[1]])
 
 
-def _walk_to_ball(episode: Episode, offset_m, config: KickTrialConfig, limit_s: float) -> str:
+def _walk_to_ball(episode: Episode, offset_m, config: KickTrialConfig, limit_s: float,
+                  goal_x_m: float) -> str:
     """Walk behind the ball facing the goal until lined up: ``arrived``, ``fell``, ``timeout``
     (the walk took too long) or ``not lined up`` (every attempt ended off the ball)."""
     from mimic.agents.walk import make_walk_agent
@@ -88,7 +135,7 @@ def _walk_to_ball(episode: Episode, offset_m, config: KickTrialConfig, limit_s: 
         goto = GoToPose(make_walk_agent())
         ball = world.ball_pos_m()[:2]
         aim = (offset_m[0] + config.approach_back_off_m, offset_m[1])
-        goto.set_target(*pose_behind_ball(ball, np.array([F.OPPONENT_GOAL_X_M, 0.0]), aim))
+        goto.set_target(*pose_behind_ball(ball, np.array([goal_x_m, 0.0]), aim))
         outcome = episode.run(goto, max_s=deadline_s - world.time_s,
                               stop=lambda w, goto=goto: goto.arrived)
         if outcome not in ("stop", "done"):
@@ -102,11 +149,80 @@ def _walk_to_ball(episode: Episode, offset_m, config: KickTrialConfig, limit_s: 
     return "not lined up"
 
 
+def _place_behind_ball(episode: Episode, offset_m, config: KickTrialConfig,
+                       rng: np.random.Generator, goal_x_m: float) -> str:
+    """Put the robot behind the ball facing the goal, with the start's noise drawn from
+    ``rng`` (x, y, heading, joints), and let it settle into its stand: ``arrived`` or
+    ``fell``."""
+    from mimic.agents.hold import HoldPose
+    from mimic.agents.walk.goto import pose_behind_ball
+
+    world, robot = episode.world, episode.world.robot
+    ball = world.ball_pos_m()[:2].copy()
+    x, y, yaw = pose_behind_ball(ball, np.array([goal_x_m, 0.0]), offset_m)
+    noise = rng.normal(0.0, config.start_noise_pos_m, 2)
+    yaw += float(rng.normal(0.0, config.start_noise_yaw_rad))
+    pose = robot.clip(robot.stand_pose()
+                      + rng.normal(0.0, config.start_noise_joint_rad, robot.num_joints))
+    # The ball waits aside (toward the field's long axis, so inside the lines) while the robot
+    # appears and settles: the league's server puts a robot down with straight joints, and its
+    # feet swing through the ball's spot on the way into the stand. Then the ball goes back
+    # to where it lay, at rest.
+    world.place_ball(ball[0], ball[1] - math.copysign(BALL_ASIDE_M, ball[1]))
+    world.place_robot(x + noise[0], y + noise[1], yaw, pose)
+    episode.falls.update(world)  # a robot lying before is standing now
+    outcome = episode.run(HoldPose(robot.stand_pose(), robot.name), max_s=_SETTLE_S,
+                          stop_when_done=False)
+    world.place_ball(*ball)
+    return "fell" if outcome == "fell" else "arrived"
+
+
+#: How long a placed robot settles into its stand before it kicks [s] (as a scene's start).
+_SETTLE_S = 0.5
+
+
+class _BallWatch:
+    """Stop condition of the wait after a kick: the ball has come to rest and ``waited(world)``
+    holds, or the league's referee has acted. Remembers where the ball was last seen in play:
+    when the referee calls it out it puts the ball back on a line at once, so that is where the
+    kick took it."""
+
+    def __init__(self, config: KickTrialConfig, waited: Callable[[World], bool]) -> None:
+        self.rest_m_s, self.waited = config.ball_rest_speed_m_s, waited
+        self.in_play_xy: np.ndarray | None = None
+
+    def __call__(self, world: World) -> bool:
+        if _referee(world) is not None:
+            return True
+        self.in_play_xy = world.ball_pos_m()[:2]
+        return world.ball_speed_m_s() < self.rest_m_s and self.waited(world)
+
+
+def _referee(world: World) -> str | None:
+    """What the league's referee made of the ball: ``goal``, ``out`` (a throw-in, corner or
+    goal kick: it has put the ball back) or None (nothing yet; our world has no referee)."""
+    play_mode = getattr(world, "play_mode", None)
+    if play_mode is None:
+        return None
+    mode = play_mode()
+    if mode == "BeforeKickOff":
+        return None
+    return "goal" if mode.startswith("Goal_") else "out"
+
+
 def run_kick_episode(kick: AgentSpec, seed: int, config: KickTrialConfig = KickTrialConfig()
                      ) -> tuple[list[dict], dict]:
-    """Play one episode; returns (one row per kick, the episode's summary row)."""
+    """Play one episode in ``config.world``; returns (one row per kick, the episode's summary
+    row)."""
+    with open_world(config.world, kick.robot, server_command=config.server_command) as world:
+        return _play_kick_episode(world, kick, seed, config)
+
+
+def _play_kick_episode(world: World, kick: AgentSpec, seed: int, config: KickTrialConfig
+                       ) -> tuple[list[dict], dict]:
     rng = np.random.default_rng(seed)
-    world = MujocoWorld(kick.robot)
+    reach = reach_method(config, kick.robot)
+    goal_x = world.field.opponent_goal_x_m
     trace = PoseTrace() if config.trace else None
     episode = Episode(world, observers=(trace,) if trace else ())
     falls, limit_s = episode.falls, config.episode_limit_s
@@ -115,7 +231,7 @@ def run_kick_episode(kick: AgentSpec, seed: int, config: KickTrialConfig = KickT
         return limit_s - world.time_s
 
     offset = kick.ball_offset_m()
-    kick_scene(offset, config).setup(world, rng, observers=episode.watchers)
+    kick_scene(offset, config, goal_x).setup(world, rng, observers=episode.watchers)
     rows: list[dict] = []
     end = "time limit"
     while left_s() > 0:
@@ -125,39 +241,51 @@ def run_kick_episode(kick: AgentSpec, seed: int, config: KickTrialConfig = KickT
         falls_before = falls.falls
         outcome = episode.run(kick.build(), max_s=min(10.0, left_s()))
         if outcome != "fell":
-            episode.stand_still(max_s=min(config.ball_wait_s, left_s()),
-                                stop=lambda w: w.ball_speed_m_s() < config.ball_rest_speed_m_s
-                                and w.time_s - start_t > 1.0)  # noqa: B023 (run at once, in this iteration)
-        else:  # the ball still rolls while the robot lies
-            episode.wait_limp(max_s=min(config.ball_wait_s, left_s()),
-                              stop=lambda w: w.ball_speed_m_s() < config.ball_rest_speed_m_s)
+            watch = _BallWatch(config, lambda w: w.time_s - start_t > 1.0)  # noqa: B023 (used in this iteration)
+            episode.stand_still(max_s=min(config.ball_wait_s, left_s()), stop=watch)
+        else:  # the ball still rolls while the robot lies (placed anew next: a falling
+            # robot may still push the ball, so wait until it has lain a second)
+            fell_t = world.time_s
+            watch = _BallWatch(config, (lambda w: w.time_s - fell_t > 1.0)  # noqa: B023
+                               if reach == "place" else (lambda w: True))
+            episode.wait_limp(max_s=min(config.ball_wait_s, left_s()), stop=watch)
+        called = _referee(world)
         end_xy = world.ball_pos_m()[:2]
+        if called == "out" and watch.in_play_xy is not None:
+            end_xy = watch.in_play_xy
         distance = float(np.linalg.norm(end_xy - start_xy))
         rows.append(dict(
             kick=len(rows), time_s=start_t, distance_m=distance,
             success=distance > SUCCESS_DISTANCE_M,
-            direction_error_deg=math.degrees(_direction_error_rad(start_xy, end_xy)),
-            goal=bool(world.goal_scored()), ball_out=bool(world.ball_out()),
+            direction_error_deg=math.degrees(_direction_error_rad(start_xy, end_xy, goal_x)),
+            goal=bool(world.goal_scored()) or called == "goal",
+            ball_out=bool(world.ball_out()) or called == "out",
             fell=falls.falls > falls_before,
             ball_start_x_m=float(start_xy[0]), ball_start_y_m=float(start_xy[1]),
             ball_end_x_m=float(end_xy[0]), ball_end_y_m=float(end_xy[1]),
             lineup_error_x_m=float(lineup[0] - offset[0]),
             lineup_error_y_m=float(lineup[1] - offset[1]),
         ))
-        if world.goal_scored():
+        if rows[-1]["goal"]:
             end = "goal"
             break
-        if world.ball_out():
+        if rows[-1]["ball_out"]:
             end = "ball out"
             break
+        if reach == "place":
+            walk = _place_behind_ball(episode, offset, config, rng, goal_x)
+            if walk == "fell":  # even placed anew it does not stand: give up
+                end = "could not stand"
+                break
+            continue
         if world.fallen() and not episode.get_up():
             end = "could not get up"
             break
-        walk = _walk_to_ball(episode, offset, config, limit_s)
+        walk = _walk_to_ball(episode, offset, config, limit_s, goal_x)
         while walk == "fell" and left_s() > 0:
             if not episode.get_up():
                 break
-            walk = _walk_to_ball(episode, offset, config, limit_s)
+            walk = _walk_to_ball(episode, offset, config, limit_s, goal_x)
         if world.goal_scored():  # pushed in while walking: a goal, but no kick's credit
             end = "goal while walking"
             break
@@ -167,7 +295,8 @@ def run_kick_episode(kick: AgentSpec, seed: int, config: KickTrialConfig = KickT
     summary = dict(seed=seed, duration_s=world.time_s, kicks=len(rows),
                    goals=int(any(r["goal"] for r in rows)),
                    goals_while_walking=int(end == "goal while walking"), falls=falls.falls,
-                   getups=falls.getups, end=end, stuck=end.startswith("stuck"))
+                   getups=falls.getups, end=end, stuck=end.startswith("stuck"),
+                   world=world_kind(config.world), reach=reach)
     if trace is not None:
         summary["trace"] = trace.trace()
     return rows, summary

@@ -69,7 +69,13 @@ def kick_summary(label: str, batch: EpisodeBatch) -> dict:
         falls=int(eps["falls"].sum()),
         getups=int(eps["getups"].sum()), stuck=int(eps["stuck"].sum()),
         episodes=eps.height, simulated_min=batch.simulated_s / 60,
+        world=_first(eps, "world"), reach=_first(eps, "reach"),
     )
+
+
+def _first(table: pl.DataFrame, column: str):
+    """The column's first value (the same in every episode of a variant), None if absent."""
+    return table[column][0] if column in table.columns and table.height else None
 
 
 def walk_summary(label: str, batch: EpisodeBatch) -> dict:
@@ -88,7 +94,7 @@ def walk_summary(label: str, batch: EpisodeBatch) -> dict:
         falls=int(runs["falls"].sum()),
         fall_rate_pct=100.0 * fell / runs.height,
         **_ci("fall_rate_pct", wilson_interval(fell, runs.height), 100.0),
-        simulated_min=batch.simulated_s / 60,
+        simulated_min=batch.simulated_s / 60, world=_first(runs, "world"),
     )
 
 

@@ -1,0 +1,152 @@
+"""How fast each world runs the same episode work: real-time factors in one run.
+
+The work is a kick trial's: the robot is placed behind the ball, stands, kicks, and stands
+while the ball rolls, again and again until ``seconds`` of simulated time have passed. Each
+world is timed from its first placement (``rtf``) and with its opening and closing included
+(``rtf_with_start``: for the league that is hosting and joining a server, once per episode in
+a trial). CPU seconds count this process and, for the league, the server process too.
+
+    rows = bench_worlds(seconds=20)
+    print(format_world_speeds(rows))
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from mimic.agents.registry import agent_spec
+from mimic.episode import Episode, Scene
+from mimic.trials.worlds import LEAGUE, MUJOCO, open_world
+
+__all__ = ["WorldSpeed", "bench_world", "bench_worlds", "format_world_speeds", "default_kick"]
+
+#: Seconds one kick cycle lasts at most: stand, kick, stand while the ball rolls [s].
+_STAND_S, _KICK_MAX_S, _ROLL_S = 0.5, 6.0, 3.0
+
+
+@dataclass(frozen=True)
+class WorldSpeed:
+    """One world's timing.
+
+    Attributes:
+        world, robot, kick: what ran (``kick``: the agent spec; ``stand``: none).
+        simulated_s: simulated time [s]; wall_s: wall time of the episode work [s];
+        start_s: wall time to open and close the world [s];
+        cpu_s: CPU time of this process and the world's server, if any [s].
+    """
+
+    world: str
+    robot: str
+    kick: str
+    simulated_s: float
+    wall_s: float
+    start_s: float
+    cpu_s: float
+
+    @property
+    def rtf(self) -> float:
+        """Simulated seconds per wall second."""
+        return self.simulated_s / self.wall_s
+
+    @property
+    def rtf_with_start(self) -> float:
+        """The same with opening and closing the world counted."""
+        return self.simulated_s / (self.wall_s + self.start_s)
+
+    @property
+    def cpu_per_simulated_s(self) -> float:
+        return self.cpu_s / self.simulated_s
+
+
+def default_kick(robot: str) -> str | None:
+    """The robot's shipped ``kick_right``, if it has one."""
+    from mimic.motion.files import list_motions
+
+    return "kick_right" if "kick_right" in list_motions(robot) else None
+
+
+def _process_cpu_s(pid: int) -> float:
+    """CPU time of another process (Linux /proc; 0 elsewhere) [s]."""
+    stat = Path(f"/proc/{pid}/stat")
+    if not stat.exists():
+        return 0.0
+    fields = stat.read_text().split(")")[1].split()
+    return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
+
+
+def _cpu_s(world) -> float:
+    server = getattr(world, "server", None)
+    proc = getattr(server, "_proc", None)
+    return time.process_time() + (_process_cpu_s(proc.pid) if proc is not None else 0.0)
+
+
+def bench_world(
+    world: str, robot: str, kick: str | None, *, seconds: float = 20.0, seed: int = 0
+) -> WorldSpeed:
+    """Time ``seconds`` of kick-trial work of ``robot`` (``kick``: an agent spec; None: the
+    robot only stands) in ``world``."""
+    spec = agent_spec(kick, robot=robot) if kick else None
+    offset = spec.ball_offset_m() if spec else (0.3, 0.0)
+    rng = np.random.default_rng(seed)
+    t0 = time.perf_counter()
+    with open_world(world, robot) as w:
+        opened_s = time.perf_counter() - t0
+        episode = Episode(w)
+        scene = Scene(
+            robot_xy_m=(-offset[0], -offset[1]),
+            ball_offset_m=tuple(offset),
+            ball_after_settle=True,
+            settle_s=_STAND_S,
+            settle_into_stand=True,
+        )
+        cpu0, t1, simulated = _cpu_s(w), time.perf_counter(), 0.0
+        while simulated < seconds:
+            scene.setup(w, rng)
+            if spec is not None:
+                episode.run(spec.build(), max_s=_KICK_MAX_S)
+            else:
+                episode.stand_still(max_s=1.5)
+            if w.fallen():
+                episode.wait_limp(max_s=_ROLL_S)
+            else:
+                episode.stand_still(max_s=_ROLL_S)
+            simulated += w.time_s
+        wall, cpu = time.perf_counter() - t1, _cpu_s(w) - cpu0
+        t2 = time.perf_counter()
+    closed_s = time.perf_counter() - t2
+    return WorldSpeed(world, robot, kick or "stand", simulated, wall, opened_s + closed_s, cpu)
+
+
+def bench_worlds(
+    seconds: float = 20.0, kicks: dict[str, str | None] | None = None
+) -> list[WorldSpeed]:
+    """The same work in our world with the NAO, in our world with the T1 and in the league's
+    with the T1 (``kicks``: robot -> kick spec; default: each robot's shipped ``kick_right``)."""
+    kicks = dict(kicks or {})
+    for robot in ("nao", "t1"):
+        kicks.setdefault(robot, default_kick(robot))
+    runs = [(MUJOCO, "nao"), (MUJOCO, "t1"), (LEAGUE, "t1")]
+    return [bench_world(world, robot, kicks[robot], seconds=seconds) for world, robot in runs]
+
+
+def format_world_speeds(rows: list[WorldSpeed]) -> str:
+    """A small table, with each world's real-time factor as a ratio of the first row's."""
+    base = rows[0].rtf if rows else math.nan
+    lines = [
+        f"{'world':8} {'robot':5} {'kick':26} {'sim s':>6} {'wall s':>7} {'RTF':>6} "
+        f"{'RTF+start':>9} {'CPU/sim s':>9} {'vs first':>8}"
+    ]
+    for r in rows:
+        kick = r.kick if len(r.kick) <= 26 else "..." + r.kick[-23:]
+        lines.append(
+            f"{r.world:8} {r.robot:5} {kick:26} {r.simulated_s:6.1f} {r.wall_s:7.2f} "
+            f"{r.rtf:6.1f} {r.rtf_with_start:9.1f} {r.cpu_per_simulated_s:9.3f} "
+            f"{r.rtf / base:8.2f}"
+        )
+    return "\n".join(lines)

@@ -1,0 +1,102 @@
+"""Where a trial's episodes play: our MuJoCo world or the league's server (RCSSServerMJ).
+
+Episode functions take their world from ``open_world(kind, robot)`` instead of building one:
+
+* ``mujoco``: our MuJoCo world (``MujocoWorld``), any robot (the NAO on the study's field,
+  league robots on the league's field). ``nao`` is accepted as another name for it.
+* ``league``: a league world (``LeagueWorld``) on a server hosted for this episode alone: sync
+  mode, no real time, no render, free ports. The server stops when the episode ends, so K
+  workers run at most K servers, and a worker that is stopped takes its server with it (the
+  server dies with the process that started it).
+
+Why a fresh server per episode rather than one per worker: a league server keeps what earlier
+episodes did (MuJoCo's solver warm start, the referee's state, its clock), so an episode
+replayed on a used server differs from the same episode on a fresh one, and which episodes a
+worker happens to run would change the table. On a fresh server a seeded episode repeats (the
+robot's perceptions exactly; see ``tests/test_league_trials.py`` for what is checked). Starting
+and joining a server costs about 1-2 s of wall time per episode.
+"""
+
+from __future__ import annotations
+
+import contextlib
+from collections.abc import Iterator
+
+from mimic.errors import MimicError
+from mimic.robot.registry import get_robot
+from mimic.world.base import World
+
+__all__ = [
+    "WORLDS",
+    "MUJOCO",
+    "LEAGUE",
+    "world_kind",
+    "open_world",
+    "default_robot",
+    "check_world",
+]
+
+MUJOCO = "mujoco"
+LEAGUE = "league"
+#: The worlds a trial can play in.
+WORLDS = (MUJOCO, LEAGUE)
+_ALIASES = {"nao": MUJOCO}
+
+
+def world_kind(name: str) -> str:
+    """The world called ``name`` (``mujoco``, ``nao``: the same, or ``league``).
+
+    Raises:
+        MimicError: an unknown name, with the known ones.
+    """
+    kind = _ALIASES.get(name.lower(), name.lower())
+    if kind not in WORLDS:
+        raise MimicError(f"unknown world {name!r}; worlds: {', '.join(WORLDS)} (nao: mujoco)")
+    return kind
+
+
+def default_robot(kind: str) -> str:
+    """The robot a trial in this world uses unless told: the NAO in ours, the T1 in the
+    league's."""
+    return "t1" if world_kind(kind) == LEAGUE else "nao"
+
+
+def check_world(kind: str, robot: str) -> None:
+    """The robot can play in this world (the league's server has league robots only).
+
+    Raises:
+        MimicError: it cannot, in one line naming the option to change.
+    """
+    description = get_robot(robot)
+    if world_kind(kind) == LEAGUE and description.world != "league":
+        raise MimicError(
+            f"the league world plays league robots (t1, k1), not the {description.name}; "
+            "pass --robot t1, or leave out --world league"
+        )
+    if world_kind(kind) == LEAGUE:
+        import importlib.util
+
+        if importlib.util.find_spec("rcsssmj") is None:
+            raise MimicError("the league world needs the league server: pip install rcsssmj")
+
+
+@contextlib.contextmanager
+def open_world(
+    kind: str, robot: str, *, server_command: tuple[str, ...] | None = None
+) -> Iterator[World]:
+    """A world of this kind with this robot, closed (its server stopped) on exit.
+
+    ``server_command``: league only, how to start the server (None: ``python -m rcsssmj``;
+    tests wrap it).
+    """
+    kind = world_kind(kind)
+    if kind == MUJOCO:
+        from mimic.world.mujoco_world import MujocoWorld
+
+        yield MujocoWorld(robot)
+        return
+    from mimic.league.server import ServerConfig
+    from mimic.league.world import LeagueWorld
+
+    with LeagueWorld(robot, server_config=ServerConfig(command=server_command)) as world:
+        yield world
