@@ -23,8 +23,16 @@ KICK_MIN_DISTANCE_M = 3.0
 
 def main(runs: int = 10) -> None:
     table = Table(title=f"keyframe motions, {runs} seeded runs each")
-    for column in ("motion", "success", "falls", "distance mean (m)", "distance std (m)",
-                   "direction error mean (deg)", "time to upright mean (s)", "wall (s)"):
+    for column in (
+        "motion",
+        "success",
+        "falls",
+        "distance mean (m)",
+        "distance std (m)",
+        "direction error mean (deg)",
+        "time to upright mean (s)",
+        "wall (s)",
+    ):
         table.add_column(column)
     for name in ("kick_right", "kick_left"):
         start = time.perf_counter()
@@ -32,16 +40,30 @@ def main(runs: int = 10) -> None:
         dist = np.array([o.distance_m for o in outs])
         err = np.degrees([o.direction_error_rad for o in outs])
         ok = sum(o.forward_m >= KICK_MIN_DISTANCE_M and o.standing_after for o in outs)
-        table.add_row(name, f"{ok}/{runs}", str(sum(not o.standing_after for o in outs)),
-                      f"{dist.mean():.2f}", f"{dist.std():.2f}", f"{np.nanmean(err):+.1f}", "-",
-                      f"{time.perf_counter() - start:.1f}")
+        table.add_row(
+            name,
+            f"{ok}/{runs}",
+            str(sum(not o.standing_after for o in outs)),
+            f"{dist.mean():.2f}",
+            f"{dist.std():.2f}",
+            f"{np.nanmean(err):+.1f}",
+            "-",
+            f"{time.perf_counter() - start:.1f}",
+        )
     for side in ("front", "back"):
         start = time.perf_counter()
         outs = [run_getup(load_motion(f"getup_{side}"), side, seed) for seed in range(runs)]
         times = [o.time_to_upright_s for o in outs if o.upright]
-        table.add_row(f"getup_{side}", f"{sum(o.upright for o in outs)}/{runs}", "-", "-", "-",
-                      "-", f"{np.mean(times):.2f}" if times else "-",
-                      f"{time.perf_counter() - start:.1f}")
+        table.add_row(
+            f"getup_{side}",
+            f"{sum(o.upright for o in outs)}/{runs}",
+            "-",
+            "-",
+            "-",
+            "-",
+            f"{np.mean(times):.2f}" if times else "-",
+            f"{time.perf_counter() - start:.1f}",
+        )
     Console(width=140).print(table)
 
 

@@ -47,11 +47,18 @@ class Case:
     mass: float = 1.0
 
 
-SINGLE_CASES = (Case("nominal"), Case("friction -10%", friction=0.9),
-                Case("friction +10%", friction=1.1), Case("masses -10%", mass=0.9),
-                Case("masses +10%", mass=1.1))
-CORNER_CASES = tuple(Case(f"friction {f:+.0%}, masses {m:+.0%}", friction=1 + f, mass=1 + m)
-                     for f in (-0.1, 0.1) for m in (-0.1, 0.1))
+SINGLE_CASES = (
+    Case("nominal"),
+    Case("friction -10%", friction=0.9),
+    Case("friction +10%", friction=1.1),
+    Case("masses -10%", mass=0.9),
+    Case("masses +10%", mass=1.1),
+)
+CORNER_CASES = tuple(
+    Case(f"friction {f:+.0%}, masses {m:+.0%}", friction=1 + f, mass=1 + m)
+    for f in (-0.1, 0.1)
+    for m in (-0.1, 0.1)
+)
 
 
 def robot_body_ids(world: MujocoWorld) -> np.ndarray:
@@ -89,11 +96,23 @@ def run_case(job: tuple[Case, str, int, float]) -> list[dict]:
     world = perturbed_world(case)
     rows = []
     for seed in range(runs):
-        r = straight_walk(lambda: make_agent(agent), 15.0, seed=seed, speed_noise_rad_s=noise,
-                       world=world)
-        rows.append(dict(agent=agent, case=case.name, friction=case.friction,
-                         mass=case.mass, seed=seed, fell=r.fell, distance_m=r.distance_m,
-                         speed_m_s=r.speed_m_s, max_drift_m=r.max_drift_m, time_s=r.time_s))
+        r = straight_walk(
+            lambda: make_agent(agent), 15.0, seed=seed, speed_noise_rad_s=noise, world=world
+        )
+        rows.append(
+            dict(
+                agent=agent,
+                case=case.name,
+                friction=case.friction,
+                mass=case.mass,
+                seed=seed,
+                fell=r.fell,
+                distance_m=r.distance_m,
+                speed_m_s=r.speed_m_s,
+                max_drift_m=r.max_drift_m,
+                time_s=r.time_s,
+            )
+        )
     return rows
 
 
@@ -103,29 +122,34 @@ def summarise(rows: pl.DataFrame) -> pl.DataFrame:
     Speeds are over the walks that covered at least two metres (a fall at the start has
     no speed)."""
     walked = pl.col("distance_m") >= 2.0
-    return (rows.group_by(["agent", "case"], maintain_order=True)
-            .agg(pl.len().alias("runs"), pl.col("fell").sum().alias("falls"),
-                 pl.col("speed_m_s").filter(walked).mean().alias("mean_speed_m_s"),
-                 pl.col("speed_m_s").filter(walked).min().alias("min_speed_m_s"),
-                 pl.col("max_drift_m").mean().alias("mean_drift_m"),
-                 pl.col("max_drift_m").max().alias("max_drift_m")))
+    return rows.group_by(["agent", "case"], maintain_order=True).agg(
+        pl.len().alias("runs"),
+        pl.col("fell").sum().alias("falls"),
+        pl.col("speed_m_s").filter(walked).mean().alias("mean_speed_m_s"),
+        pl.col("speed_m_s").filter(walked).min().alias("min_speed_m_s"),
+        pl.col("max_drift_m").mean().alias("mean_drift_m"),
+        pl.col("max_drift_m").max().alias("max_drift_m"),
+    )
 
 
 def weakest(summary: pl.DataFrame, agent: str) -> dict:
     """The case with the most falls, then the lowest mean speed."""
     rows = summary.filter(pl.col("agent") == agent).sort(
-        [pl.col("falls"), pl.col("mean_speed_m_s")], descending=[True, False])
+        [pl.col("falls"), pl.col("mean_speed_m_s")], descending=[True, False]
+    )
     return rows.row(0, named=True)
 
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--runs", type=int, default=10, help="seeded walks per agent and case")
-    ap.add_argument("--noise", type=float, default=0.05,
-                    help="speed-command noise [rad/s]")
+    ap.add_argument("--noise", type=float, default=0.05, help="speed-command noise [rad/s]")
     ap.add_argument("--workers", type=int, default=2)
-    ap.add_argument("--corners", action="store_true",
-                    help="also friction and masses off together (4 more cases)")
+    ap.add_argument(
+        "--corners",
+        action="store_true",
+        help="also friction and masses off together (4 more cases)",
+    )
     ap.add_argument("--agents", nargs="+", default=list(AGENTS), choices=AGENTS)
     ap.add_argument("--out", type=Path, default=None, help="write every walk to this parquet")
     args = ap.parse_args()
@@ -142,23 +166,34 @@ def main() -> None:
     summary = summarise(rows)
     wall = time.perf_counter() - start
 
-    table = Table(title=f"15 m walks under perturbed friction / masses, {args.runs} seeds "
-                        f"each, command noise {args.noise} rad/s")
+    table = Table(
+        title=f"15 m walks under perturbed friction / masses, {args.runs} seeds "
+        f"each, command noise {args.noise} rad/s"
+    )
     for c in ("agent", "case", "falls", "speed m/s", "lowest", "drift m", "largest"):
-        table.add_column(c, justify="left" if c in ("agent", "case") else "right",
-                         no_wrap=True)
+        table.add_column(c, justify="left" if c in ("agent", "case") else "right", no_wrap=True)
     for r in summary.iter_rows(named=True):
-        table.add_row(r["agent"], r["case"], f"{r['falls']}/{r['runs']}",
-                      _num(r["mean_speed_m_s"]), _num(r["min_speed_m_s"]),
-                      f"{r['mean_drift_m']:.2f}", f"{r['max_drift_m']:.2f}")
+        table.add_row(
+            r["agent"],
+            r["case"],
+            f"{r['falls']}/{r['runs']}",
+            _num(r["mean_speed_m_s"]),
+            _num(r["min_speed_m_s"]),
+            f"{r['mean_drift_m']:.2f}",
+            f"{r['max_drift_m']:.2f}",
+        )
     console.print(table)
     for agent in args.agents:
         w = weakest(summary, agent)
-        console.print(f"weakest case for {agent}: {w['case']} ({w['falls']}/{w['runs']} "
-                      f"falls, {_num(w['mean_speed_m_s'])} m/s, drift up to "
-                      f"{w['max_drift_m']:.2f} m)")
-    console.print(f"{len(rows)} walks, {rows['time_s'].sum():.0f} s simulated, {wall:.0f} s "
-                  f"wall ({args.workers} workers)")
+        console.print(
+            f"weakest case for {agent}: {w['case']} ({w['falls']}/{w['runs']} "
+            f"falls, {_num(w['mean_speed_m_s'])} m/s, drift up to "
+            f"{w['max_drift_m']:.2f} m)"
+        )
+    console.print(
+        f"{len(rows)} walks, {rows['time_s'].sum():.0f} s simulated, {wall:.0f} s "
+        f"wall ({args.workers} workers)"
+    )
     if args.out:
         rows.write_parquet(args.out)
         console.print(f"wrote {args.out}")

@@ -51,17 +51,24 @@ def record_rate(motion: str, sim_s: float, tf_every: int) -> tuple[float, float,
 
 
 def main() -> None:
-    motion = sys.argv[1] if len(sys.argv) > 1 else (
-        "kick_right" if "kick_right" in list_motions() else "stand")
+    motion = (
+        sys.argv[1]
+        if len(sys.argv) > 1
+        else ("kick_right" if "kick_right" in list_motions() else "stand")
+    )
     sim_s = 10.0
     base, base_cpu = baseline_rate(sim_s)
-    print(f"MuJoCo stepping alone:        {base:7.1f}x real time (wall), "
-          f"{base_cpu:7.1f}x per CPU second")
+    print(
+        f"MuJoCo stepping alone:        {base:7.1f}x real time (wall), "
+        f"{base_cpu:7.1f}x per CPU second"
+    )
     for tf_every in (1, 2):
         rate, rate_cpu, size = record_rate(motion, sim_s, tf_every)
-        print(f"record {motion} (tf every {tf_every}): {rate:7.1f}x real time (wall), "
-              f"{rate_cpu:7.1f}x per CPU second; {rate / base:.2f} of the baseline (wall), "
-              f"{rate_cpu / base_cpu:.2f} (CPU); {size / sim_s / 1000:.0f} kB per sim second")
+        print(
+            f"record {motion} (tf every {tf_every}): {rate:7.1f}x real time (wall), "
+            f"{rate_cpu:7.1f}x per CPU second; {rate / base:.2f} of the baseline (wall), "
+            f"{rate_cpu / base_cpu:.2f} (CPU); {size / sim_s / 1000:.0f} kB per sim second"
+        )
 
 
 if __name__ == "__main__":

@@ -21,8 +21,7 @@ from mimic.trials.scaling import bench_scaling, format_scaling
 def short_kick_trial(workers: int) -> tuple[float, float, int]:
     """(wall s, simulated min, kicks) of a 2-minute kick trial of kick_right, seed 7."""
     start = time.perf_counter()
-    result = kick_trial([AgentSpec("motion", "kick_right")], minutes=2.0, seed=7,
-                        workers=workers)
+    result = kick_trial([AgentSpec("motion", "kick_right")], minutes=2.0, seed=7, workers=workers)
     row = result.summary.row(0, named=True)
     return time.perf_counter() - start, row["simulated_min"], row["attempts"]
 

@@ -43,19 +43,26 @@ def main() -> None:
     args = parser.parse_args()
     baseline, baseline_cpu = bare_stepping_real_time_factor()
     start, cpu = time.perf_counter(), cpu_s()
-    result = kick_trial([AgentSpec("motion", "kick_right")], minutes=args.minutes,
-                        workers=args.workers)
+    result = kick_trial(
+        [AgentSpec("motion", "kick_right")], minutes=args.minutes, workers=args.workers
+    )
     wall_s, cpu_used_s = time.perf_counter() - start, cpu_s() - cpu
     simulated_s = float(result.summary["simulated_min"][0]) * 60
     factor, factor_cpu = simulated_s / wall_s, simulated_s / cpu_used_s
-    print(f"kick trial: {simulated_s / 60:.1f} simulated min in {wall_s:.1f} s wall "
-          f"({factor:.0f}x real time; target: 30 min in <= 60 s, i.e. >= 30x), "
-          f"{cpu_used_s:.1f} CPU s ({factor_cpu:.0f}x per CPU second)")
-    print(f"bare MuJoCo stepping, one process: {baseline:.0f}x real time, "
-          f"{baseline_cpu:.0f}x per CPU second")
-    print(f"trial / bare stepping ratio: {factor / baseline:.2f} wall "
-          f"(above 1 means the workers' parallelism beats one bare process), "
-          f"{factor_cpu / baseline_cpu:.2f} per CPU second (the trial's overhead)")
+    print(
+        f"kick trial: {simulated_s / 60:.1f} simulated min in {wall_s:.1f} s wall "
+        f"({factor:.0f}x real time; target: 30 min in <= 60 s, i.e. >= 30x), "
+        f"{cpu_used_s:.1f} CPU s ({factor_cpu:.0f}x per CPU second)"
+    )
+    print(
+        f"bare MuJoCo stepping, one process: {baseline:.0f}x real time, "
+        f"{baseline_cpu:.0f}x per CPU second"
+    )
+    print(
+        f"trial / bare stepping ratio: {factor / baseline:.2f} wall "
+        f"(above 1 means the workers' parallelism beats one bare process), "
+        f"{factor_cpu / baseline_cpu:.2f} per CPU second (the trial's overhead)"
+    )
     print(f"kicks: {result.summary['attempts'][0]}, episodes: {result.summary['episodes'][0]}")
 
 

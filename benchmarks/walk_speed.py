@@ -31,8 +31,12 @@ def walk_15m(world: World, seed: int, speed_m_s: float, timeout_s: float = 90.0)
     rng = np.random.default_rng(seed)
     start_x = -FIELD_LENGTH_M / 2
     world.reset()
-    world.place_robot(start_x + rng.uniform(-0.005, 0.005), rng.uniform(-0.005, 0.005),
-                      math.radians(rng.uniform(-1, 1)), nao().stand_pose())
+    world.place_robot(
+        start_x + rng.uniform(-0.005, 0.005),
+        rng.uniform(-0.005, 0.005),
+        math.radians(rng.uniform(-1, 1)),
+        nao().stand_pose(),
+    )
     agent = make_walk_agent(speed_m_s)
     agent.reset(world.observe())
     act_s = step_s = 0.0
@@ -58,19 +62,28 @@ def walk_15m(world: World, seed: int, speed_m_s: float, timeout_s: float = 90.0)
     wall = time.perf_counter() - wall0
     p = world.torso_pos_m()
     cycles = world.cycle
-    return dict(seed=seed, reached=t_cross is not None,
-                speed_m_s=(p[0] - start_x) / world.time_s,
-                lateral_drift_m=float(p[1]), max_drift_m=max_drift, falls=falls,
-                sim_s=world.time_s, wall_s=wall, real_time_factor=world.time_s / wall,
-                act_us=act_s / cycles * 1e6, step_us=step_s / cycles * 1e6)
+    return dict(
+        seed=seed,
+        reached=t_cross is not None,
+        speed_m_s=(p[0] - start_x) / world.time_s,
+        lateral_drift_m=float(p[1]),
+        max_drift_m=max_drift,
+        falls=falls,
+        sim_s=world.time_s,
+        wall_s=wall,
+        real_time_factor=world.time_s / wall,
+        act_us=act_s / cycles * 1e6,
+        step_us=step_s / cycles * 1e6,
+    )
 
 
 def stop_from_speed(world: World, seed: int, speed_m_s: float, walk_s: float = 6.0) -> dict:
     """Walk ``walk_s`` at ``speed_m_s``, call stop(); time and distance until standing."""
     rng = np.random.default_rng(seed)
     world.reset()
-    world.place_robot(-FIELD_LENGTH_M / 2, 0.0, math.radians(rng.uniform(-1, 1)),
-                      nao().stand_pose())
+    world.place_robot(
+        -FIELD_LENGTH_M / 2, 0.0, math.radians(rng.uniform(-1, 1)), nao().stand_pose()
+    )
     agent = make_walk_agent(speed_m_s)
     agent.reset(world.observe())
     fell = False
@@ -86,11 +99,14 @@ def stop_from_speed(world: World, seed: int, speed_m_s: float, walk_s: float = 6
         if agent.state == "standing" and t_rest is None:
             t_rest = world.time_s - t0
     obs = world.observe()
-    return dict(seed=seed, fell=fell, standing=agent.state == "standing" and agent.done,
-                time_to_rest_s=t_rest if t_rest is not None else float("nan"),
-                distance_after_stop_m=world.torso_pos_m()[0] - x0,
-                pose_error_deg=math.degrees(
-                    np.abs(obs.joint_angles_rad - nao().stand_pose()).max()))
+    return dict(
+        seed=seed,
+        fell=fell,
+        standing=agent.state == "standing" and agent.done,
+        time_to_rest_s=t_rest if t_rest is not None else float("nan"),
+        distance_after_stop_m=world.torso_pos_m()[0] - x0,
+        pose_error_deg=math.degrees(np.abs(obs.joint_angles_rad - nao().stand_pose()).max()),
+    )
 
 
 GOTO_CASES = (  # (start x, y, yaw [deg]) -> target (x, y, heading [deg])
@@ -118,9 +134,14 @@ def go_to(world: World, start, target, timeout_s: float = 40.0) -> dict:
         if goto.arrived:
             break
     p = world.torso_pos_m()
-    return dict(target=target, fell=fell, arrived=goto.arrived, time_s=world.time_s,
-                error_cm=100 * math.hypot(p[0] - goal[0], p[1] - goal[1]),
-                heading_error_deg=math.degrees(wrap_angle(world.torso_yaw_rad() - goal[2])))
+    return dict(
+        target=target,
+        fell=fell,
+        arrived=goto.arrived,
+        time_s=world.time_s,
+        error_cm=100 * math.hypot(p[0] - goal[0], p[1] - goal[1]),
+        heading_error_deg=math.degrees(wrap_angle(world.torso_yaw_rad() - goal[2])),
+    )
 
 
 def main() -> None:
@@ -132,31 +153,41 @@ def main() -> None:
     speed = args.speed or inspect.signature(make_walk_agent).parameters["vx_m_s"].default
     world = MujocoWorld()
     print(f"commanded {speed:.2f} m/s; x = -15 -> 0 (15 m); speed = distance / time incl. start")
-    print(f"{'seed':>4} {'reached':>7} {'speed':>7} {'drift_y':>8} {'max|y|':>7} {'falls':>5} "
-          f"{'sim_s':>6} {'wall_s':>6} {'RTF':>6} {'act_us':>7} {'step_us':>7} {'act/step':>8}")
+    print(
+        f"{'seed':>4} {'reached':>7} {'speed':>7} {'drift_y':>8} {'max|y|':>7} {'falls':>5} "
+        f"{'sim_s':>6} {'wall_s':>6} {'RTF':>6} {'act_us':>7} {'step_us':>7} {'act/step':>8}"
+    )
     rows = [walk_15m(world, seed, speed) for seed in range(args.runs)]
     for r in rows:
-        print(f"{r['seed']:>4} {str(r['reached']):>7} {r['speed_m_s']:7.3f} "
-              f"{r['lateral_drift_m']:8.3f} {r['max_drift_m']:7.3f} {r['falls']:>5} "
-              f"{r['sim_s']:6.1f} {r['wall_s']:6.2f} {r['real_time_factor']:6.0f} "
-              f"{r['act_us']:7.0f} {r['step_us']:7.0f} {r['act_us'] / r['step_us']:8.2f}")
+        print(
+            f"{r['seed']:>4} {str(r['reached']):>7} {r['speed_m_s']:7.3f} "
+            f"{r['lateral_drift_m']:8.3f} {r['max_drift_m']:7.3f} {r['falls']:>5} "
+            f"{r['sim_s']:6.1f} {r['wall_s']:6.2f} {r['real_time_factor']:6.0f} "
+            f"{r['act_us']:7.0f} {r['step_us']:7.0f} {r['act_us'] / r['step_us']:8.2f}"
+        )
     sp = np.array([r["speed_m_s"] for r in rows])
     dr = np.array([abs(r["lateral_drift_m"]) for r in rows])
-    print(f"speed {sp.mean():.3f} +- {sp.std():.3f} m/s, |drift| {dr.mean():.3f} m (max "
-          f"{dr.max():.3f}), falls {sum(r['falls'] for r in rows)} / {len(rows)} runs")
+    print(
+        f"speed {sp.mean():.3f} +- {sp.std():.3f} m/s, |drift| {dr.mean():.3f} m (max "
+        f"{dr.max():.3f}), falls {sum(r['falls'] for r in rows)} / {len(rows)} runs"
+    )
     if not args.stop_goto:
         return
     print(f"\nstop after 6 s at {speed:.2f} m/s")
     for r in (stop_from_speed(world, seed, speed) for seed in range(args.runs)):
-        print(f"  seed {r['seed']}: fell {r['fell']}, standing {r['standing']}, rest after "
-              f"{r['time_to_rest_s']:.2f} s, {r['distance_after_stop_m']:.2f} m, pose error "
-              f"{r['pose_error_deg']:.1f} deg")
+        print(
+            f"  seed {r['seed']}: fell {r['fell']}, standing {r['standing']}, rest after "
+            f"{r['time_to_rest_s']:.2f} s, {r['distance_after_stop_m']:.2f} m, pose error "
+            f"{r['pose_error_deg']:.1f} deg"
+        )
     print("\ngo-to-pose")
     for start, target in GOTO_CASES:
         r = go_to(world, start, target)
-        print(f"  {start} -> {target}: fell {r['fell']}, arrived {r['arrived']} after "
-              f"{r['time_s']:.1f} s, error {r['error_cm']:.1f} cm, "
-              f"{r['heading_error_deg']:.1f} deg")
+        print(
+            f"  {start} -> {target}: fell {r['fell']}, arrived {r['arrived']} after "
+            f"{r['time_s']:.1f} s, error {r['error_cm']:.1f} cm, "
+            f"{r['heading_error_deg']:.1f} deg"
+        )
 
 
 if __name__ == "__main__":

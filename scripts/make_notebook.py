@@ -3,7 +3,7 @@ import nbformat as nbf
 nb = nbf.v4.new_notebook()
 md, code = nbf.v4.new_markdown_cell, nbf.v4.new_code_cell
 nb.cells = [
-md("""# Reproducing "Learning Humanoid Robot Motions through Deep Neural Networks" in MuJoCo
+    md("""# Reproducing "Learning Humanoid Robot Motions through Deep Neural Networks" in MuJoCo
 
 This notebook runs the study end to end with `mimic`: it records our keyframe kick and the
 other team's walk (observed only through joint angles), trains the study's network on both,
@@ -12,7 +12,7 @@ and shows the study's three tables next to ours, plus the joint curves (original
 
 Set `MIMIC_PAPER_MINUTES` (simulated minutes per trial and variant) to 30 for the full run;
 the default here is small so that the notebook runs in a minute or two."""),
-code("""import os
+    code("""import os
 from pathlib import Path
 
 %matplotlib inline
@@ -23,14 +23,14 @@ from mimic.pipeline import reproduce_paper
 MINUTES = float(os.environ.get("MIMIC_PAPER_MINUTES", "1"))
 OUT = Path(os.environ.get("MIMIC_PAPER_OUT", "out/paper"))
 result = reproduce_paper(OUT, minutes=MINUTES, seed=0, say=print)"""),
-md("## Table 1: the network and its fit (mean absolute error over the 22 joints, radians)"),
-code("result.network"),
-md("## Table 2: kick trial (success: the ball travels more than 2 m)"),
-code("result.kick"),
-md("## Table 3: forward walk trial (own goal line to centre line, 15 m)"),
-code("result.walk"),
-md("## Joint curves: original vs learned"),
-code("""from mimic.learn.model_file import load_model
+    md("## Table 1: the network and its fit (mean absolute error over the 22 joints, radians)"),
+    code("result.network"),
+    md("## Table 2: kick trial (success: the ball travels more than 2 m)"),
+    code("result.kick"),
+    md("## Table 3: forward walk trial (own goal line to centre line, 15 m)"),
+    code("result.walk"),
+    md("## Joint curves: original vs learned"),
+    code("""from mimic.learn.model_file import load_model
 from mimic.recording.reader import read_joint_table
 
 def plot_motion(recording, model, joints, title):

@@ -1,7 +1,7 @@
 """Record every own-team motion into recordings/<name>.mcap (small files, seeded).
 
-    python scripts/make_recordings.py            # all shipped motions
-    python scripts/make_recordings.py stand kick_right
+python scripts/make_recordings.py            # all shipped motions
+python scripts/make_recordings.py stand kick_right
 """
 
 from __future__ import annotations
@@ -23,8 +23,13 @@ def make_recording(name: str, out_dir: Path = OUT_DIR) -> Path:
     """Record one motion; returns the file path."""
     path = out_dir / f"{name}.mcap"
     for tf_every in (1, 2, 4):
-        record(name, path, duration_s=DURATIONS_S.get(name), seed=0,
-               config=RecordConfig(tf_every=tf_every))
+        record(
+            name,
+            path,
+            duration_s=DURATIONS_S.get(name),
+            seed=0,
+            config=RecordConfig(tf_every=tf_every),
+        )
         if path.stat().st_size <= MAX_BYTES:
             break
     return path

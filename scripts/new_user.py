@@ -27,8 +27,14 @@ import tempfile
 import time
 from pathlib import Path
 
-__all__ = ["quickstart_commands", "shortened", "run_quickstart", "tracked_files", "copy_tree",
-           "main"]
+__all__ = [
+    "quickstart_commands",
+    "shortened",
+    "run_quickstart",
+    "tracked_files",
+    "copy_tree",
+    "main",
+]
 
 REPO = Path(__file__).resolve().parents[1]
 
@@ -52,8 +58,9 @@ def shortened(command: str, minutes: float) -> str:
     ``rerun FILE.mcap`` becomes ``rerun mcap convert FILE.mcap -o FILE.rrd`` (no window)."""
     words = shlex.split(command)
     if words[:1] == ["rerun"] and len(words) == 2 and words[1].endswith(".mcap"):
-        return shlex.join(["rerun", "mcap", "convert", words[1], "-o",
-                           words[1][:-len(".mcap")] + "_rerun.rrd"])
+        return shlex.join(
+            ["rerun", "mcap", "convert", words[1], "-o", words[1][: -len(".mcap")] + "_rerun.rrd"]
+        )
     if minutes <= 0 or words[:1] != ["mimic"]:
         return command
     if words[1:3] == ["bench", "train"]:
@@ -73,8 +80,9 @@ def shortened(command: str, minutes: float) -> str:
     return command
 
 
-def run_quickstart(workdir: Path, *, minutes: float = 0.1, env: dict | None = None,
-                   log=print) -> list[tuple[str, int, str]]:
+def run_quickstart(
+    workdir: Path, *, minutes: float = 0.1, env: dict | None = None, log=print
+) -> list[tuple[str, int, str]]:
     """Run the quick start of ``workdir/README.md`` in ``workdir``, stopping at the first failure.
 
     Returns:
@@ -88,8 +96,7 @@ def run_quickstart(workdir: Path, *, minutes: float = 0.1, env: dict | None = No
         run = shortened(command, minutes)
         log(f"$ {run}")
         start = time.monotonic()
-        proc = subprocess.run(run, shell=True, cwd=workdir, env=env, capture_output=True,
-                              text=True)
+        proc = subprocess.run(run, shell=True, cwd=workdir, env=env, capture_output=True, text=True)
         output = proc.stdout + proc.stderr
         log(f"  exit {proc.returncode} after {time.monotonic() - start:.0f} s")
         results.append((run, proc.returncode, output))
@@ -103,14 +110,25 @@ def tracked_files(repo: Path = REPO) -> list[str]:
     """Paths (relative, with /) of the files a clone of ``repo`` holds: what git tracks, or,
     outside a git checkout, every file but hidden ones and the ignored outputs."""
     try:
-        listed = subprocess.run(["git", "-C", str(repo), "ls-files", "-z"], check=True,
-                                capture_output=True).stdout.decode().split("\0")
+        listed = (
+            subprocess.run(
+                ["git", "-C", str(repo), "ls-files", "-z"], check=True, capture_output=True
+            )
+            .stdout.decode()
+            .split("\0")
+        )
         return [n for n in listed if n and (repo / n).is_file()]
     except (OSError, subprocess.CalledProcessError):
         skip = {"out", "models", "build", "__pycache__"}
-        return [p.relative_to(repo).as_posix() for p in repo.rglob("*") if p.is_file()
-                and not any(part.startswith(".") or part in skip or part.endswith(".egg-info")
-                            for part in p.relative_to(repo).parts)]
+        return [
+            p.relative_to(repo).as_posix()
+            for p in repo.rglob("*")
+            if p.is_file()
+            and not any(
+                part.startswith(".") or part in skip or part.endswith(".egg-info")
+                for part in p.relative_to(repo).parts
+            )
+        ]
 
 
 def copy_tree(dest: Path, repo: Path = REPO) -> Path:
@@ -124,10 +142,17 @@ def copy_tree(dest: Path, repo: Path = REPO) -> Path:
 
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--minutes", type=float, default=0.1,
-                        help="simulated minutes per trial (0: as the README says)")
-    parser.add_argument("--venv", action="store_true",
-                        help="make a fresh venv in the clone and pip install -e . there")
+    parser.add_argument(
+        "--minutes",
+        type=float,
+        default=0.1,
+        help="simulated minutes per trial (0: as the README says)",
+    )
+    parser.add_argument(
+        "--venv",
+        action="store_true",
+        help="make a fresh venv in the clone and pip install -e . there",
+    )
     parser.add_argument("--keep", action="store_true", help="keep the clone afterwards")
     args = parser.parse_args(argv)
     root = Path(tempfile.mkdtemp(prefix="mimic-new-user-"))
@@ -137,14 +162,15 @@ def main(argv: list[str] | None = None) -> int:
     if args.venv:
         venv = clone / ".venv"
         subprocess.run([sys.executable, "-m", "venv", str(venv)], check=True)
-        subprocess.run([str(venv / "bin" / "pip"), "install", "-q", "-e", str(clone)],
-                       check=True)
+        subprocess.run([str(venv / "bin" / "pip"), "install", "-q", "-e", str(clone)], check=True)
         env["PATH"] = f"{venv / 'bin'}{os.pathsep}{env.get('PATH', '')}"
         env.pop("PYTHONPATH", None)
     results = run_quickstart(clone, minutes=args.minutes, env=env)
     failed = [r for r in results if r[1] != 0]
-    print(f"{len(results) - len(failed)} of {len(quickstart_commands((clone / 'README.md').read_text()))}"
-          f" quick-start commands ran" + (f"; failed: {failed[0][0]}" if failed else ""))
+    print(
+        f"{len(results) - len(failed)} of {len(quickstart_commands((clone / 'README.md').read_text()))}"
+        f" quick-start commands ran" + (f"; failed: {failed[0][0]}" if failed else "")
+    )
     if args.keep:
         print(f"kept {clone}")
     else:

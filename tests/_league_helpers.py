@@ -25,8 +25,7 @@ def mimic_command() -> list[str]:
 
 def truth_server_config(truth: Path, logfile: Path | None = None) -> ServerConfig:
     """A hosted server that also writes the true state at every monitor frame to ``truth``."""
-    return ServerConfig(logfile=logfile,
-                        command=(sys.executable, str(TRUTH_SERVER), str(truth)))
+    return ServerConfig(logfile=logfile, command=(sys.executable, str(TRUTH_SERVER), str(truth)))
 
 
 def read_truth(path: Path, who: str) -> dict[float, dict]:
@@ -87,41 +86,93 @@ def both(kind: str, left: float, right: float | None = None) -> dict[str, float]
     """``{Left_<kind>: left, Right_<kind>: right}`` (right: the mirror of left by default)."""
     i = T1.joint_index(f"Left_{kind}")
     mirror = T1.joints[T1.mirror_permutation[i]]
-    return {f"Left_{kind}": left,
-            f"Right_{kind}": left * mirror.mirror_sign if right is None else right}
+    return {
+        f"Left_{kind}": left,
+        f"Right_{kind}": left * mirror.mirror_sign if right is None else right,
+    }
 
 
 def getup_sweep() -> SweepAgent:
     """A get-up-like sweep from lying on the back: arms swing, hips and knees fold, the
     trunk twists, then back to the stand pose (2.4 s)."""
-    return SweepAgent("getup_sweep", [
-        (0.6, {**both("Shoulder_Pitch", -1.6), **both("Elbow_Pitch", 1.2),
-               **both("Hip_Pitch", -1.3), **both("Knee_Pitch", 1.9),
-               **both("Ankle_Pitch", -0.6), "Waist": 0.5, "AAHead_yaw": 0.8}),
-        (1.2, {**both("Shoulder_Roll", -0.6), **both("Hip_Roll", 0.4),
-               **both("Hip_Yaw", 0.5), **both("Ankle_Roll", 0.3), "Waist": -0.5,
-               "Head_pitch": 0.9, **both("Elbow_Yaw", -1.5)}),
-        (1.8, {**both("Shoulder_Pitch", 0.8), **both("Hip_Pitch", -0.4),
-               **both("Knee_Pitch", 0.6), "AAHead_yaw": -0.8}),
-        (2.4, dict(zip(T1.joint_names, T1.stand_pose()))),
-    ])
+    return SweepAgent(
+        "getup_sweep",
+        [
+            (
+                0.6,
+                {
+                    **both("Shoulder_Pitch", -1.6),
+                    **both("Elbow_Pitch", 1.2),
+                    **both("Hip_Pitch", -1.3),
+                    **both("Knee_Pitch", 1.9),
+                    **both("Ankle_Pitch", -0.6),
+                    "Waist": 0.5,
+                    "AAHead_yaw": 0.8,
+                },
+            ),
+            (
+                1.2,
+                {
+                    **both("Shoulder_Roll", -0.6),
+                    **both("Hip_Roll", 0.4),
+                    **both("Hip_Yaw", 0.5),
+                    **both("Ankle_Roll", 0.3),
+                    "Waist": -0.5,
+                    "Head_pitch": 0.9,
+                    **both("Elbow_Yaw", -1.5),
+                },
+            ),
+            (
+                1.8,
+                {
+                    **both("Shoulder_Pitch", 0.8),
+                    **both("Hip_Pitch", -0.4),
+                    **both("Knee_Pitch", 0.6),
+                    "AAHead_yaw": -0.8,
+                },
+            ),
+            (2.4, dict(zip(T1.joint_names, T1.stand_pose()))),
+        ],
+    )
 
 
 def kick_sweep() -> SweepAgent:
     """A kick-like sweep while standing: shift onto the left leg, draw the right leg back,
     swing it through fast (0.15 s), return (1.6 s)."""
-    return SweepAgent("kick_sweep", [
-        (0.4, {**both("Hip_Roll", 0.12, 0.12), **both("Ankle_Roll", -0.1, -0.1)}),
-        (0.7, {"Right_Hip_Pitch": 0.35, "Right_Knee_Pitch": 1.3, "Right_Ankle_Pitch": -0.4,
-               **both("Shoulder_Pitch", -0.5, 0.9)}),
-        (0.85, {"Right_Hip_Pitch": -0.9, "Right_Knee_Pitch": 0.2, "Right_Ankle_Pitch": 0.2,
-                **both("Shoulder_Pitch", 0.9, -0.5)}),
-        (1.6, dict(zip(T1.joint_names, T1.stand_pose()))),
-    ])
+    return SweepAgent(
+        "kick_sweep",
+        [
+            (0.4, {**both("Hip_Roll", 0.12, 0.12), **both("Ankle_Roll", -0.1, -0.1)}),
+            (
+                0.7,
+                {
+                    "Right_Hip_Pitch": 0.35,
+                    "Right_Knee_Pitch": 1.3,
+                    "Right_Ankle_Pitch": -0.4,
+                    **both("Shoulder_Pitch", -0.5, 0.9),
+                },
+            ),
+            (
+                0.85,
+                {
+                    "Right_Hip_Pitch": -0.9,
+                    "Right_Knee_Pitch": 0.2,
+                    "Right_Ankle_Pitch": 0.2,
+                    **both("Shoulder_Pitch", 0.9, -0.5),
+                },
+            ),
+            (1.6, dict(zip(T1.joint_names, T1.stand_pose()))),
+        ],
+    )
 
 
-def errors_against_truth(times_s: np.ndarray, angles: np.ndarray, torso_m: np.ndarray | None,
-                         truth: dict[float, dict], lag_s: float) -> dict[str, np.ndarray]:
+def errors_against_truth(
+    times_s: np.ndarray,
+    angles: np.ndarray,
+    torso_m: np.ndarray | None,
+    truth: dict[float, dict],
+    lag_s: float,
+) -> dict[str, np.ndarray]:
     """Absolute errors of decoded samples against the truth.
 
     ``times_s``: the samples' times, ``lag_s`` before the frames that carried them. Returns
@@ -130,8 +181,7 @@ def errors_against_truth(times_s: np.ndarray, angles: np.ndarray, torso_m: np.nd
     ``lag_s`` later) and ``torso`` ((S,) [m]).
     """
     shown, qpos, torso = [], [], []
-    for t, q, p in zip(times_s, angles, torso_m if torso_m is not None else [None] * len(
-            times_s)):
+    for t, q, p in zip(times_s, angles, torso_m if torso_m is not None else [None] * len(times_s)):
         state = truth[round(float(t) + lag_s, 2)]
         shown.append(np.abs(q - [state["shown"][n] for n in T1.joint_names]))
         qpos.append(np.abs(q - [state["qpos"][n] for n in T1.joint_names]))

@@ -45,12 +45,14 @@ class TruthMonitor(SimMonitor):
                 name = m.joint(j).name
                 if name.startswith(prefix) and m.jnt_type[j] == 3:  # hinge
                     q, v = float(d.qpos[m.jnt_qposadr[j]]), float(d.qvel[m.jnt_dofadr[j]])
-                    qpos[name[len(prefix):]] = q
-                    shown[name[len(prefix):]] = q - dt * v
+                    qpos[name[len(prefix) :]] = q
+                    shown[name[len(prefix) :]] = q - dt * v
             torso = m.body(agent.root_body_name).id
             players[f"{agent.team_name} {agent.agent_id.player_no}"] = {
-                "qpos": qpos, "shown": shown,
-                "torso": [*map(float, d.xpos[torso]), *map(float, d.xquat[torso])]}
+                "qpos": qpos,
+                "shown": shown,
+                "torso": [*map(float, d.xpos[torso]), *map(float, d.xquat[torso])],
+            }
         self._file.write(json.dumps({"t": float(d.time), "players": players}) + "\n")
 
     def shutdown(self) -> None:

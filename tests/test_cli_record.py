@@ -8,12 +8,12 @@ import time
 from pathlib import Path
 
 import pytest
+from _learn_helpers import PAPER_DATA as PAPER  # noqa: E402
 from typer.testing import CliRunner
 
 from mimic.cli.main import app
 from mimic.recording.reader import read_joint_table, read_recording
 
-from _learn_helpers import PAPER_DATA as PAPER  # noqa: E402
 runner = CliRunner()
 
 
@@ -29,12 +29,15 @@ def test_record_then_info_json(tmp_path):
     assert summary["complete"] and not summary["interrupted"]
 
 
-@pytest.mark.parametrize("args, message", [
-    (["record", "moonwalk", "-o", "x.mcap"], "unknown agent 'moonwalk'"),
-    (["record", "stand"], "-o FILE.mcap"),
-    (["info", "missing.mcap"], "no such file"),
-    (["import", "missing.txt", "-o", "x.mcap"], "cannot read the file"),
-])
+@pytest.mark.parametrize(
+    "args, message",
+    [
+        (["record", "moonwalk", "-o", "x.mcap"], "unknown agent 'moonwalk'"),
+        (["record", "stand"], "-o FILE.mcap"),
+        (["info", "missing.mcap"], "no such file"),
+        (["import", "missing.txt", "-o", "x.mcap"], "cannot read the file"),
+    ],
+)
 def test_bad_input_is_one_line_and_nonzero(tmp_path, monkeypatch, args, message):
     monkeypatch.chdir(tmp_path)  # undone after the test, unlike os.chdir
     result = runner.invoke(app, args)
@@ -65,8 +68,12 @@ def test_ctrl_c_leaves_a_valid_file(tmp_path):
     out = tmp_path / "long.mcap"
     mimic = Path(sys.executable).with_name("mimic")
     cmd = [str(mimic)] if mimic.exists() else [sys.executable, "-m", "mimic.cli.main"]
-    proc = subprocess.Popen(cmd + ["record", "stand", "-o", str(out), "--duration", "600"],
-                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    proc = subprocess.Popen(
+        cmd + ["record", "stand", "-o", str(out), "--duration", "600"],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
     deadline = time.monotonic() + 60
 
     def written() -> int:  # the recording is written under a temporary name until it ends

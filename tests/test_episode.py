@@ -19,7 +19,8 @@ from mimic.world.mujoco_world import MujocoWorld
 def _placed(seed, noise=PoseNoise(0.01, 0.03, 0.02, 0.01)):
     world = MujocoWorld()
     placement = Scene(ball_offset_m=(0.2, 0.0), noise=noise, settle_s=0.2).setup(
-        world, np.random.default_rng(seed))
+        world, np.random.default_rng(seed)
+    )
     return world, placement
 
 
@@ -43,8 +44,9 @@ def test_uniform_noise_stays_within_its_half_widths():
 
 def test_ball_goes_to_the_offset_in_the_robot_frame():
     world = MujocoWorld()
-    p = Scene(robot_xy_m=(1.0, 2.0), robot_yaw_rad=math.pi / 2, ball_offset_m=(0.3, 0.0),
-              settle_s=0.0).setup(world, np.random.default_rng(0))
+    p = Scene(
+        robot_xy_m=(1.0, 2.0), robot_yaw_rad=math.pi / 2, ball_offset_m=(0.3, 0.0), settle_s=0.0
+    ).setup(world, np.random.default_rng(0))
     assert p.ball_xy_m == pytest.approx((1.0, 2.3))
     assert world.ball_pos_m()[:2] == pytest.approx([1.0, 2.3])
 
@@ -88,8 +90,9 @@ def test_episode_counts_falls_and_traces_every_run():
     world = MujocoWorld()
     trace = PoseTrace(every_cycles=1)
     episode = Episode(world, observers=(trace,), falls=FallCounter())
-    Scene(posture="lying_front", settle_s=0.2).setup(world, np.random.default_rng(0),
-                                                     observers=episode.watchers)
+    Scene(posture="lying_front", settle_s=0.2).setup(
+        world, np.random.default_rng(0), observers=episode.watchers
+    )
     assert episode.falls.falls == 1
     assert episode.get_up()
     assert episode.falls.getups == 1 and world.upright()
@@ -107,8 +110,9 @@ def test_a_nao_only_controller_refuses_another_robot():
 
 
 def test_record_a_nao_only_controller_on_the_t1_is_one_line(tmp_path):
-    result = CliRunner().invoke(app, ["record", "walk", "--robot", "t1",
-                                      "-o", str(tmp_path / "x.mcap")])
+    result = CliRunner().invoke(
+        app, ["record", "walk", "--robot", "t1", "-o", str(tmp_path / "x.mcap")]
+    )
     assert result.exit_code != 0 and "Traceback" not in result.output
     assert "NAO-only controller" in result.output
     assert not (tmp_path / "x.mcap").exists()

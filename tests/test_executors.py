@@ -43,6 +43,7 @@ def test_budget_is_never_overshot_and_the_cut_is_the_same_in_a_pool():
 
 def _seed(seed, i):
     from mimic.trials.parallel import derive_seed
+
     return derive_seed(seed, i)
 
 
@@ -55,8 +56,9 @@ def test_workers_are_capped_at_the_cores_with_one_line():
     cores = available_cores()
     assert resolve_workers(None) == (cores, None)
     n, note = resolve_workers(cores + 14)
-    assert n == cores and note == (f"using {cores} workers: {cores + 14} asked, {cores} cores "
-                                   "available")
+    assert n == cores and note == (
+        f"using {cores} workers: {cores + 14} asked, {cores} cores available"
+    )
     with pytest.raises(MimicError, match="--workers must be >= 1"):
         resolve_workers(0)
     with make_executor(cores + 14) as ex:
@@ -73,8 +75,7 @@ def test_one_executor_serves_every_variant(monkeypatch):
 
     monkeypatch.setattr(api, "make_executor", counting)
     walk = AgentSpec("behaviour", "walk")
-    result = api.walk_trial([walk, walk], runs=1, workers=1,
-                            config=WalkTrialConfig(timeout_s=1.0))
+    result = api.walk_trial([walk, walk], runs=1, workers=1, config=WalkTrialConfig(timeout_s=1.0))
     assert made == [1] and result.rows.height == 2
 
 
@@ -102,13 +103,23 @@ def test_ray_gives_the_results_of_the_process_pool(local_ray, tmp_path):
     with make_executor(ray="local") as ray_ex, PoolExecutor(2) as pool:
         assert ray_ex.workers == 2
         walk, short = AgentSpec("behaviour", "walk"), WalkTrialConfig(timeout_s=2.0)
-        trials = [api.walk_trial([walk], minutes=0.3, seed=5, config=short, executor=ex)
-                  for ex in (ray_ex, pool)]
+        trials = [
+            api.walk_trial([walk], minutes=0.3, seed=5, config=short, executor=ex)
+            for ex in (ray_ex, pool)
+        ]
         assert trials[0].rows.equals(trials[1].rows) and trials[0].rows.height >= 5
         tiny = WalkObjective(episodes=1, trial_config=WalkTrialConfig(timeout_s=3.0))
-        runs = [improve("other-team-walk", objective=tiny, budget=8, population=4,
-                        out=tmp_path / f"{name}.json", executor=ex)
-                for name, ex in (("ray", ray_ex), ("pool", pool))]
+        runs = [
+            improve(
+                "other-team-walk",
+                objective=tiny,
+                budget=8,
+                population=4,
+                out=tmp_path / f"{name}.json",
+                executor=ex,
+            )
+            for name, ex in (("ray", ray_ex), ("pool", pool))
+        ]
     (z_ray, s_ray, _), (z_pool, s_pool, _) = (r.search.best for r in runs)
     assert np.array_equal(z_ray, z_pool) and s_ray == s_pool
     assert (tmp_path / "ray.json").read_text() == (tmp_path / "pool.json").read_text()

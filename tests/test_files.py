@@ -9,8 +9,14 @@ import pytest
 
 from mimic import options
 from mimic.errors import MimicError
-from mimic.files import OutputError, PendingOutput, atomic_output, check_output, \
-    check_outputs, input_file
+from mimic.files import (
+    OutputError,
+    PendingOutput,
+    atomic_output,
+    check_output,
+    check_outputs,
+    input_file,
+)
 
 
 def test_atomic_output_appears_only_when_complete(tmp_path):

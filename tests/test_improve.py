@@ -36,10 +36,16 @@ def _tiny_model(kick: bool = True) -> MotionModel:
     layout = Layout(in_dim=1, out_dim=23, hidden=(8,))
     rng = np.random.default_rng(0)
     meta = {"motion": "tiny", "ball_offset_m": [0.16, -0.07]} if kick else {"motion": "tiny"}
-    return MotionModel(layout, init_params(layout, rng), input_offset_s=0.3,
-                       input_scale_per_s=2.0, duration_s=1.5,
-                       output_mean=rng.normal(0, 0.2, 23), output_std=rng.uniform(0.1, 0.3, 23),
-                       metadata=meta)
+    return MotionModel(
+        layout,
+        init_params(layout, rng),
+        input_offset_s=0.3,
+        input_scale_per_s=2.0,
+        duration_s=1.5,
+        output_mean=rng.normal(0, 0.2, 23),
+        output_std=rng.uniform(0.1, 0.3, 23),
+        metadata=meta,
+    )
 
 
 def test_model_correction_is_exact_and_an_ordinary_model_file(tmp_path):
@@ -66,8 +72,9 @@ def test_model_target_searches_a_time_warp_and_leg_offsets_and_gains(tmp_path):
     assert "offset.right_hip_roll" in target.space.names
     assert "gain.left_ankle_roll" in target.space.names
     zero = target.spec(np.zeros(25)).model
-    assert np.array_equal(zero.predict(np.linspace(0, 1, 5)), target.model.predict(
-        np.linspace(0, 1, 5)))
+    assert np.array_equal(
+        zero.predict(np.linspace(0, 1, 5)), target.model.predict(np.linspace(0, 1, 5))
+    )
     assert target.spec(np.zeros(25)).ball_offset_m() == (0.16, -0.07)
 
 
@@ -75,8 +82,7 @@ def test_motion_target_round_trips_through_a_motion_file(tmp_path):
     target = load_target("kick_right", joints="right_hip_pitch,right_knee_pitch")
     steps = len(load_motion("kick_right").steps)
     assert target.space.dim == 2 * steps + steps + 1
-    assert target.movement_at(np.zeros(target.space.dim)).steps == load_motion(
-        "kick_right").steps
+    assert target.movement_at(np.zeros(target.space.dim)).steps == load_motion("kick_right").steps
     z = np.random.default_rng(2).normal(size=target.space.dim)
     path = target.write(z, tmp_path / "better.txt", {"evaluations": 8, "best_score": 1.5})
     text = path.read_text()
@@ -107,8 +113,15 @@ def test_walk_parameters_go_to_a_parameter_file_every_command_accepts(tmp_path):
 
 def test_bad_parameter_files_are_one_clear_line(tmp_path):
     bad = tmp_path / "bad.json"
-    bad.write_text(json.dumps({"format": "mimic-agent-params", "agent": "other-team-walk",
-                               "params": {"speed_m_s": 0.5, "warp": 1}}))
+    bad.write_text(
+        json.dumps(
+            {
+                "format": "mimic-agent-params",
+                "agent": "other-team-walk",
+                "params": {"speed_m_s": 0.5, "warp": 1},
+            }
+        )
+    )
     with pytest.raises(MimicError, match="no field 'warp'"):
         agent_spec(str(bad))
     bad.write_text("{")
@@ -128,7 +141,8 @@ def test_search_is_seeded_and_resumes_from_its_checkpoint(tmp_path):
     for g, h in zip(straight.search.generations, resumed.search.generations):
         assert np.array_equal(g.z, h.z) and np.array_equal(g.scores, h.scores)
     assert json.loads((tmp_path / "a.json").read_text()) == json.loads(
-        (tmp_path / "b.json").read_text())
+        (tmp_path / "b.json").read_text()
+    )
     # Episodes of generation g are g * E .. g * E + E - 1, shared by its candidates.
     assert [g.first_episode for g in straight.search.generations] == [0, 1]
     # A checkpoint of another search, or a damaged one, stops the run with one line.
@@ -140,8 +154,16 @@ def test_search_is_seeded_and_resumes_from_its_checkpoint(tmp_path):
 
 
 def test_validation_plays_seeds_the_search_never_played(tmp_path):
-    run = improve("other-team-walk", objective=TINY_WALK, budget=4, population=4, workers=1,
-                  out=tmp_path / "w.json", validation_episodes=3, pick="mean")
+    run = improve(
+        "other-team-walk",
+        objective=TINY_WALK,
+        budget=4,
+        population=4,
+        workers=1,
+        out=tmp_path / "w.json",
+        validation_episodes=3,
+        pick="mean",
+    )
     # The optimiser's final mean was written and validated, not the best candidate scored.
     assert np.array_equal(run.z, run.search.mean_z)
     assert not np.array_equal(run.z, run.search.best[0])
@@ -159,27 +181,61 @@ def test_validation_plays_seeds_the_search_never_played(tmp_path):
 
 def test_kick_objective_scores_distance_times_success_minus_falls():
     from mimic.trials.parallel import EpisodeBatch
+
     batch = EpisodeBatch([dict(distance_m=4.0), dict(distance_m=1.0)], [dict(falls=1)])
     assert KickObjective(fall_penalty_m=2.0).score(batch) == pytest.approx(2.0 - 1.0)
     assert KickObjective().search_config.episode_limit_s == 60.0
-    assert KickObjective(trial_config=KickTrialConfig(walk_timeout_s=5.0)
-                         ).search_config.walk_timeout_s == 5.0
+    assert (
+        KickObjective(trial_config=KickTrialConfig(walk_timeout_s=5.0)).search_config.walk_timeout_s
+        == 5.0
+    )
 
 
-@pytest.mark.parametrize("args, message", [
-    (["walk", "--objective", "walk", "--budget", "4", "-o", "x.json"], "cannot improve 'walk'"),
-    (["kick_right", "--objective", "kick", "--budget", "0", "-o", "x.txt"], "--budget must be"),
-    (["kick_right", "--objective", "kick", "--budget", "4", "-o", "x.json"], "as a .txt file"),
-    (["kick_right", "--objective", "kick", "--budget", "4", "-o", "x.txt", "--sigma", "nan"],
-     "--sigma must be"),
-    (["kick_right", "--objective", "kick", "--budget", "2", "-o", "x.txt"],
-     "less than one generation"),
-    (["kick_right", "--objective", "kick", "--budget", "4", "-o", "x.txt", "--ray-address",
-      "127.0.0.1:1"], "cannot reach a Ray cluster"),
-    (["kick_right", "--objective", "kick", "--budget", "4", "-o", "x.txt", "--joints", "tail"],
-     "no joint 'tail'"),
-    (["other-team-walk", "--objective", "kick", "--budget", "4", "-o", "x.json"], "not a kick"),
-])
+@pytest.mark.parametrize(
+    "args, message",
+    [
+        (["walk", "--objective", "walk", "--budget", "4", "-o", "x.json"], "cannot improve 'walk'"),
+        (["kick_right", "--objective", "kick", "--budget", "0", "-o", "x.txt"], "--budget must be"),
+        (["kick_right", "--objective", "kick", "--budget", "4", "-o", "x.json"], "as a .txt file"),
+        (
+            ["kick_right", "--objective", "kick", "--budget", "4", "-o", "x.txt", "--sigma", "nan"],
+            "--sigma must be",
+        ),
+        (
+            ["kick_right", "--objective", "kick", "--budget", "2", "-o", "x.txt"],
+            "less than one generation",
+        ),
+        (
+            [
+                "kick_right",
+                "--objective",
+                "kick",
+                "--budget",
+                "4",
+                "-o",
+                "x.txt",
+                "--ray-address",
+                "127.0.0.1:1",
+            ],
+            "cannot reach a Ray cluster",
+        ),
+        (
+            [
+                "kick_right",
+                "--objective",
+                "kick",
+                "--budget",
+                "4",
+                "-o",
+                "x.txt",
+                "--joints",
+                "tail",
+            ],
+            "no joint 'tail'",
+        ),
+        (["other-team-walk", "--objective", "kick", "--budget", "4", "-o", "x.json"], "not a kick"),
+    ],
+)
 def test_bad_input_is_one_clear_line(args, message, tmp_path, monkeypatch):
     monkeypatch.chdir(tmp_path)
     result = CliRunner().invoke(app, ["improve", *args])
@@ -191,29 +247,70 @@ def test_bad_input_is_one_clear_line(args, message, tmp_path, monkeypatch):
 def test_corrupt_checkpoint_is_one_clear_line(tmp_path, monkeypatch):
     monkeypatch.chdir(tmp_path)
     (tmp_path / "x.txt.ckpt.json").write_text("not json")
-    result = CliRunner().invoke(app, ["improve", "kick_right", "--objective", "kick",
-                                      "--budget", "4", "-o", "x.txt", "--workers", "1"])
+    result = CliRunner().invoke(
+        app,
+        [
+            "improve",
+            "kick_right",
+            "--objective",
+            "kick",
+            "--budget",
+            "4",
+            "-o",
+            "x.txt",
+            "--workers",
+            "1",
+        ],
+    )
     assert result.exit_code == 2 and "damaged or not a checkpoint" in result.output
 
 
-def test_command_writes_the_file_the_trial_accepts_and_a_rerun_run(tmp_path, rerun_cli,
-                                                                   monkeypatch):
+def test_command_writes_the_file_the_trial_accepts_and_a_rerun_run(
+    tmp_path, rerun_cli, monkeypatch
+):
     # 3 s walks instead of the trial's 15 m for the search and validation.
     monkeypatch.setitem(OBJECTIVES, "walk", lambda **kw: dataclasses.replace(TINY_WALK, **kw))
     monkeypatch.chdir(tmp_path)
     runner = CliRunner()
-    result = runner.invoke(app, ["improve", "other-team-walk", "--objective", "walk",
-                                 "--budget", "4", "--episodes", "1", "--validate", "1",
-                                 "--workers", "1", "-o", "walk.json", "--save", "run.rrd"])
+    result = runner.invoke(
+        app,
+        [
+            "improve",
+            "other-team-walk",
+            "--objective",
+            "walk",
+            "--budget",
+            "4",
+            "--episodes",
+            "1",
+            "--validate",
+            "1",
+            "--workers",
+            "1",
+            "-o",
+            "walk.json",
+            "--save",
+            "run.rrd",
+        ],
+    )
     assert result.exit_code == 0, result.output
     assert "search: 4 evaluations" in result.output and "validation" in result.output
     assert (tmp_path / "walk.json.ckpt.json").is_file()
     provenance = json.loads((tmp_path / "walk.json").read_text())["provenance"]
     assert provenance["evaluations"] == 4 and provenance["objective"] == "walk"
-    text = subprocess.run([rerun_cli, "rrd", "print", "run.rrd"], check=True,
-                          capture_output=True, text=True, timeout=120).stdout
-    for entity in ("/improve/score/best ", "/improve/score/best_so_far", "/improve/candidates",
-                   "/world/replay/other_team_walk__improved/robot/torso"):
+    text = subprocess.run(
+        [rerun_cli, "rrd", "print", "run.rrd"],
+        check=True,
+        capture_output=True,
+        text=True,
+        timeout=120,
+    ).stdout
+    for entity in (
+        "/improve/score/best ",
+        "/improve/score/best_so_far",
+        "/improve/candidates",
+        "/world/replay/other_team_walk__improved/robot/torso",
+    ):
         assert entity in text
     trial = runner.invoke(app, ["trial", "walk", "walk.json", "--runs", "1", "--workers", "1"])
     assert trial.exit_code == 0, trial.output

@@ -34,9 +34,25 @@ def match(tmp_path_factory):
     server = LeagueServer(ServerConfig(sync=False, realtime=True)).start()
     played = d / "played.mcap"
     player = subprocess.Popen(
-        mimic_command() + ["play", "stand", "--server", server.agent_address, "--team", TEAM,
-                           "--player", str(PLAYER), "--seconds", "120", "-o", str(played)],
-        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+        mimic_command()
+        + [
+            "play",
+            "stand",
+            "--server",
+            server.agent_address,
+            "--team",
+            TEAM,
+            "--player",
+            str(PLAYER),
+            "--seconds",
+            "120",
+            "-o",
+            str(played),
+        ],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
     try:
         deadline = time.monotonic() + 60
         while not list_players(server.monitor_address) and player.poll() is None:
@@ -60,17 +76,29 @@ def _one_line_error(result, code: int, *fragments: str) -> None:
 
 
 def test_list_names_the_players_and_their_robots(match):
-    result = runner.invoke(app, ["record", "--server", match["server"].monitor_address,
-                                 "--list"])
+    result = runner.invoke(app, ["record", "--server", match["server"].monitor_address, "--list"])
     assert result.exit_code == 0, result.output
     assert f"{TEAM} #{PLAYER} (T1)" in result.output
 
 
 def test_record_a_player_from_the_monitor_stream(match, tmp_path):
     out = tmp_path / "seen.mcap"
-    result = runner.invoke(app, ["record", "--server", match["server"].monitor_address,
-                                 "--team", TEAM, "--player", str(PLAYER), "--seconds", "1",
-                                 "-o", str(out)])
+    result = runner.invoke(
+        app,
+        [
+            "record",
+            "--server",
+            match["server"].monitor_address,
+            "--team",
+            TEAM,
+            "--player",
+            str(PLAYER),
+            "--seconds",
+            "1",
+            "-o",
+            str(out),
+        ],
+    )
     assert result.exit_code == 0, result.output
     rec = read_recording(out)
     table = read_joint_table(rec)
@@ -84,26 +112,55 @@ def test_record_a_player_from_the_monitor_stream(match, tmp_path):
 
 def test_a_player_not_on_the_field_is_named_with_those_who_are(match, tmp_path):
     out = tmp_path / "nobody.mcap"
-    result = runner.invoke(app, ["record", "--server", match["server"].monitor_address,
-                                 "--team", TEAM, "--player", "9", "--wait", "0.3",
-                                 "-o", str(out)])
+    result = runner.invoke(
+        app,
+        [
+            "record",
+            "--server",
+            match["server"].monitor_address,
+            "--team",
+            TEAM,
+            "--player",
+            "9",
+            "--wait",
+            "0.3",
+            "-o",
+            str(out),
+        ],
+    )
     _one_line_error(result, 2, f"{TEAM} #9 is not on the field", f"{TEAM} #{PLAYER} (T1)")
     assert not out.exists()
 
 
 def test_a_robot_option_the_stream_contradicts(match, tmp_path):
     out = tmp_path / "k1.mcap"
-    result = runner.invoke(app, ["record", "--server", match["server"].monitor_address,
-                                 "--team", TEAM, "--player", str(PLAYER), "--robot", "k1",
-                                 "-o", str(out)])
+    result = runner.invoke(
+        app,
+        [
+            "record",
+            "--server",
+            match["server"].monitor_address,
+            "--team",
+            TEAM,
+            "--player",
+            str(PLAYER),
+            "--robot",
+            "k1",
+            "-o",
+            str(out),
+        ],
+    )
     _one_line_error(result, 2, "is a T1 robot, not a K1")
     assert not out.exists()
 
 
-@pytest.mark.parametrize("command", [
-    ["record", "--team", "a", "--player", "1"],
-    ["play", "stand"],
-])
+@pytest.mark.parametrize(
+    "command",
+    [
+        ["record", "--team", "a", "--player", "1"],
+        ["play", "stand"],
+    ],
+)
 def test_nothing_listening_on_the_port(tmp_path, command):
     out = tmp_path / "x.mcap"
     port = free_port()
@@ -115,8 +172,9 @@ def test_nothing_listening_on_the_port(tmp_path, command):
 def test_a_file_that_is_not_a_game_log(tmp_path):
     text = tmp_path / "match.log"
     text.write_text("this is not RSMP\n")
-    result = runner.invoke(app, ["import", str(text), "--team", "a", "--player", "1",
-                                 "-o", str(tmp_path / "x.mcap")])
+    result = runner.invoke(
+        app, ["import", str(text), "--team", "a", "--player", "1", "-o", str(tmp_path / "x.mcap")]
+    )
     _one_line_error(result, 2, "is not an RCSSServerMJ game log")
 
 
@@ -129,8 +187,10 @@ def test_a_model_of_another_robot_played_on_the_t1(tmp_path):
     from mimic.learn.train import TrainConfig, train_model
 
     t, q = smooth_motion(20)
-    model = train_model(dataset_from_frame(joint_frame(t, q), metadata={"motion": "wave"}),
-                        TrainConfig(FAST, seed=0, epochs=50))
+    model = train_model(
+        dataset_from_frame(joint_frame(t, q), metadata={"motion": "wave"}),
+        TrainConfig(FAST, seed=0, epochs=50),
+    )
     path = save_model(model, tmp_path / "nao_wave.mimic")
     result = runner.invoke(app, ["play", str(path), "--robot", "t1"])
     _one_line_error(result, 2, "made for the NAO", "T1")
@@ -139,8 +199,9 @@ def test_a_model_of_another_robot_played_on_the_t1(tmp_path):
 @pytest.mark.slow  # hosting is covered by test_league_world, playing by the match below
 def test_play_on_a_server_of_its_own(tmp_path):
     out = tmp_path / "hosted.mcap"
-    result = runner.invoke(app, ["play", "stand", "--seconds", "0.8", "--player", "5",
-                                 "-o", str(out)])
+    result = runner.invoke(
+        app, ["play", "stand", "--seconds", "0.8", "--player", "5", "-o", str(out)]
+    )
     assert result.exit_code == 0, result.output
     rec = read_recording(out)
     assert rec.recovery.complete and not rec.interrupted
@@ -150,16 +211,20 @@ def test_play_on_a_server_of_its_own(tmp_path):
     refs = read_joint_table(rec, topic=L.JOINT_REFERENCES)
     seen = read_joint_table(rec, topic=L.JOINT_STATES)
     assert len(refs) == len(seen) == 40
-    np.testing.assert_allclose(refs.select(T1.joint_names).to_numpy()[-1], T1.stand_pose(),
-                               atol=1e-9)  # the stand motion takes 0.6 s
+    np.testing.assert_allclose(
+        refs.select(T1.joint_names).to_numpy()[-1], T1.stand_pose(), atol=1e-9
+    )  # the stand motion takes 0.6 s
     assert np.abs(seen.select(T1.joint_names).to_numpy()[-1] - T1.stand_pose()).max() < 0.1
 
 
 def test_ctrl_c_ends_a_team_process_with_its_file_finished(match, tmp_path):
     """Runs last: stops the match's player (and a recording of it ends as it leaves)."""
     results = []
-    recorder = threading.Thread(target=lambda: results.append(record_player(
-        match["server"].monitor_address, tmp_path / "last.mcap", TEAM, PLAYER)))
+    recorder = threading.Thread(
+        target=lambda: results.append(
+            record_player(match["server"].monitor_address, tmp_path / "last.mcap", TEAM, PLAYER)
+        )
+    )
     recorder.start()
     time.sleep(0.5)
     player = match["player"]

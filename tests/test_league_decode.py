@@ -66,14 +66,32 @@ def game(tmp_path_factory):
     truth_path, log, live = d / "truth.jsonl", d / "game.log", d / "live.mcap"
     server = LeagueServer(truth_server_config(truth_path, log)).start()
     recorder = subprocess.Popen(
-        mimic_command() + ["record", "--server", server.monitor_address, "--team", TEAM,
-                           "--player", str(PLAYER), "--wait", "60", "-o", str(live)],
-        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+        mimic_command()
+        + [
+            "record",
+            "--server",
+            server.monitor_address,
+            "--team",
+            TEAM,
+            "--player",
+            str(PLAYER),
+            "--wait",
+            "60",
+            "-o",
+            str(live),
+        ],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
     world = None
     try:
-        world = LeagueWorld("t1", agent_address=server.agent_address,
-                            monitor_address=server.monitor_address,
-                            config=LeagueWorldConfig(team=TEAM, player=PLAYER))
+        world = LeagueWorld(
+            "t1",
+            agent_address=server.agent_address,
+            monitor_address=server.monitor_address,
+            config=LeagueWorldConfig(team=TEAM, player=PLAYER),
+        )
         getup, kick = _motions()
         rng = np.random.default_rng(0)
         scene = Scene(robot_xy_m=(-2.0, 1.0), posture="lying_back", settle_s=0.2)
@@ -99,11 +117,18 @@ def game(tmp_path_factory):
             recorder.wait(timeout=30)
         server.stop()
     imported = d / "imported.mcap"
-    result = CliRunner().invoke(app, ["import", str(log), "--team", TEAM, "--player",
-                                      str(PLAYER), "-o", str(imported)])
-    return {"truth": read_truth(truth_path, f"{TEAM} {PLAYER}"), "live": live,
-            "imported": imported, "log": log, "recorder_code": recorder.returncode,
-            "recorder_stderr": stderr, "import": result}
+    result = CliRunner().invoke(
+        app, ["import", str(log), "--team", TEAM, "--player", str(PLAYER), "-o", str(imported)]
+    )
+    return {
+        "truth": read_truth(truth_path, f"{TEAM} {PLAYER}"),
+        "live": live,
+        "imported": imported,
+        "log": log,
+        "recorder_code": recorder.returncode,
+        "recorder_stderr": stderr,
+        "import": result,
+    }
 
 
 def _errors(path, truth):
@@ -114,16 +139,17 @@ def _errors(path, truth):
     angles = table.select(T1.joint_names).to_numpy()
     torso = read_tf(rec)[T1.root_link]
     assert len(torso.times_ns) == len(times)
-    return errors_against_truth(times, angles, torso.pos_m, truth,
-                                league_air().timestep_s), rec
+    return errors_against_truth(times, angles, torso.pos_m, truth, league_air().timestep_s), rec
 
 
 def _report(name, err) -> None:
     shown, qpos = err["shown"], err["qpos"]
-    print(f"\n{name}: {len(shown)} samples; vs true qpos at the sample's time: mean "
-          f"{shown.mean():.4f} max {shown.max():.4f} rad (worst joint mean "
-          f"{shown.mean(0).max():.4f}); vs qpos at the frame's stamp: mean {qpos.mean():.4f} "
-          f"max {qpos.max():.4f} rad; torso max {err['torso'].max() * 1000:.1f} mm")
+    print(
+        f"\n{name}: {len(shown)} samples; vs true qpos at the sample's time: mean "
+        f"{shown.mean():.4f} max {shown.max():.4f} rad (worst joint mean "
+        f"{shown.mean(0).max():.4f}); vs qpos at the frame's stamp: mean {qpos.mean():.4f} "
+        f"max {qpos.max():.4f} rad; torso max {err['torso'].max() * 1000:.1f} mm"
+    )
 
 
 @pytest.mark.parametrize("which", ["live", "imported"])
@@ -140,8 +166,12 @@ def test_decoded_angles_match_the_servers_state(game, which):
     angles = read_joint_table(rec).select(T1.joint_names).to_numpy()
     assert np.ptp(angles, axis=0).max() > 2.0
     info = rec.info
-    assert (info.world, info.robot, info.team, info.extra["player"]) == \
-        ("league", "t1", TEAM, str(PLAYER))
+    assert (info.world, info.robot, info.team, info.extra["player"]) == (
+        "league",
+        "t1",
+        TEAM,
+        str(PLAYER),
+    )
     assert info.source == ("monitor" if which == "live" else "game_log")
     assert L.ROBOT_DESCRIPTION in rec.topics and L.TF in rec.topics
 
@@ -165,22 +195,25 @@ def test_import_of_the_game_log(game):
 def test_a_cut_off_log_yields_every_complete_frame(game, tmp_path):
     data = game["log"].read_bytes()
     cut = tmp_path / "cut.log"
-    cut.write_bytes(data[:len(data) * 2 // 3])  # ends inside a frame
+    cut.write_bytes(data[: len(data) * 2 // 3])  # ends inside a frame
     out = tmp_path / "cut.mcap"
-    result = CliRunner().invoke(app, ["import", str(cut), "--team", TEAM, "--player",
-                                      str(PLAYER), "-o", str(out)])
+    result = CliRunner().invoke(
+        app, ["import", str(cut), "--team", TEAM, "--player", str(PLAYER), "-o", str(out)]
+    )
     assert result.exit_code == 0, result.output
     full = read_joint_table(game["imported"])
     part = read_joint_table(out)
     assert 20 < len(part) < len(full)
     columns = ["time_s", *T1.joint_names]
-    np.testing.assert_array_equal(part.select(columns).to_numpy(),
-                                  full.head(len(part)).select(columns).to_numpy())
+    np.testing.assert_array_equal(
+        part.select(columns).to_numpy(), full.head(len(part)).select(columns).to_numpy()
+    )
 
 
 def test_import_every_player_of_a_log(game, tmp_path):
-    result = CliRunner().invoke(app, ["import", str(game["log"]), "--all", "-o",
-                                      str(tmp_path / "players")])
+    result = CliRunner().invoke(
+        app, ["import", str(game["log"]), "--all", "-o", str(tmp_path / "players")]
+    )
     assert result.exit_code == 0, result.output
     files = sorted((tmp_path / "players").iterdir())
     assert [f.name for f in files] == [f"{TEAM}_{PLAYER}.mcap"]

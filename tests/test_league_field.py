@@ -85,7 +85,7 @@ def test_league_ball_rolls_to_a_stop():
     hold = JointCommand.references(world.robot.stand_pose())
 
     def ground_speed():
-        return float(np.hypot(*world.data.qvel[v:v + 2]))
+        return float(np.hypot(*world.data.qvel[v : v + 2]))
 
     for _ in range(int(8 / CYCLE_S)):
         world.step(hold)

@@ -22,8 +22,9 @@ T1 = get_robot("t1")
 def test_sexp_nesting_and_atoms():
     assert parse_sexp(b"(a 1)(b (c 2.5) d)") == [[b"a", b"1"], [b"b", [b"c", b"2.5"], b"d"]]
     assert parse_sexp(b"  ") == []
-    assert parse_sexp(b"(nd(nd)(nd TRF(SLT 1 0)))") == \
-        [[b"nd", [b"nd"], [b"nd", b"TRF", [b"SLT", b"1", b"0"]]]]
+    assert parse_sexp(b"(nd(nd)(nd TRF(SLT 1 0)))") == [
+        [b"nd", [b"nd"], [b"nd", b"TRF", [b"SLT", b"1", b"0"]]]
+    ]
     with pytest.raises(ValueError, match="unclosed"):
         parse_sexp(b"(a (b)")
     with pytest.raises(ValueError, match="unbalanced"):
@@ -91,12 +92,15 @@ def test_motor_commands_carry_degrees_and_the_robots_gains():
 def _perception_text(angles_deg) -> bytes:
     names = wire_names(T1)
     by_joint = {j: s for s, j in names.joint_by_sensor.items()}
-    joints = "".join(f"(HJ (n {by_joint[j]})(ax {a})(vx 1.5))"
-                     for j, a in zip(T1.joint_names, angles_deg))
-    return (b"(time (now 12.34))(GS (t 0.0)(pm BeforeKickOff)(tl mimic)(sl 0)(sr 0))"
-            b"(quat (n torso_quat) (q 0.707 0.0 0.0 -0.707))(pos (n torso_pos) (p -15.0 21.0 "
-            b"0.673))(GYR (n torso_gyro) (rt 10.0 0.0 -20.0))(ACC (n torso_acc) (a 0.1 0.0 "
-            b"9.81))" + joints.encode() + b"(See (B (pol 25.73 35.68 -2.2)))")
+    joints = "".join(
+        f"(HJ (n {by_joint[j]})(ax {a})(vx 1.5))" for j, a in zip(T1.joint_names, angles_deg)
+    )
+    return (
+        b"(time (now 12.34))(GS (t 0.0)(pm BeforeKickOff)(tl mimic)(sl 0)(sr 0))"
+        b"(quat (n torso_quat) (q 0.707 0.0 0.0 -0.707))(pos (n torso_pos) (p -15.0 21.0 "
+        b"0.673))(GYR (n torso_gyro) (rt 10.0 0.0 -20.0))(ACC (n torso_acc) (a 0.1 0.0 "
+        b"9.81))" + joints.encode() + b"(See (B (pol 25.73 35.68 -2.2)))"
+    )
 
 
 def test_perceptions_in_the_robots_joint_order_and_units():

@@ -31,23 +31,39 @@ def _robot_nodes(m, d, b: int, full: bool, moved: set[int]) -> str:
     rot, pos = rp.T @ rc, rp.T @ (d.xpos[b] - d.xpos[p])
     trf = f"(nd TRF{_slt(rot, pos)}" if (full or b in moved) else "(nd"
     shape = "(nd SMN (setVisible 1)(load models/T1/part.STL)(sMat gray))" if full else "(nd)"
-    kids = "".join(_robot_nodes(m, d, c, full, moved) for c in range(m.nbody)
-                   if m.body_parentid[c] == b and c != b)
+    kids = "".join(
+        _robot_nodes(m, d, c, full, moved)
+        for c in range(m.nbody)
+        if m.body_parentid[c] == b and c != b
+    )
     return f"{trf}{shape}{kids})"
 
 
-def _frame(m, d, time_s: float, full: bool, moved: set[int] = frozenset(),
-           ball=(1.0, 2.0, 0.11), team="mimic", unum=7) -> bytes:
+def _frame(
+    m,
+    d,
+    time_s: float,
+    full: bool,
+    moved: set[int] = frozenset(),
+    ball=(1.0, 2.0, 0.11),
+    team="mimic",
+    unum=7,
+) -> bytes:
     eye = np.eye(3)
     root = m.body(T1.root_link).id
     robot = _robot_nodes(m, d, root, full, moved)
     agent = f"(nd DSC(agent {team} {unum}){robot})" if full else f"(nd{robot})"
-    ball_node = (f"(nd DSC(ball)(nd TRF{_slt(eye, np.array(ball))}"
-                 "(nd SMN (load StdUnitSphere))))") if full else "(nd(nd(nd)))"
+    ball_node = (
+        (f"(nd DSC(ball)(nd TRF{_slt(eye, np.array(ball))}(nd SMN (load StdUnitSphere))))")
+        if full
+        else "(nd(nd(nd)))"
+    )
     world = f"(nd TRF{_slt(eye, np.zeros(3))}" if full else "(nd"
     graph = f"{world}{ball_node}{agent})"
-    return (f"((RSMP 1 0)((gt 1 0){time_s:.2f})((sg 1 0){'full' if full else 'diff'}{graph})"
-            f"((gs 1 0)(time 0.0)(play_mode 0)(team_left {team})))").encode()
+    return (
+        f"((RSMP 1 0)((gt 1 0){time_s:.2f})((sg 1 0){'full' if full else 'diff'}{graph})"
+        f"((gs 1 0)(time 0.0)(play_mode 0)(team_left {team})))"
+    ).encode()
 
 
 @pytest.fixture(scope="module")
@@ -58,8 +74,8 @@ def model():
 def _pose(model, angles, torso=(0.5, -1.0, 0.6)):
     d = mujoco.MjData(model)
     root_q = model.jnt_qposadr[model.body_jntadr[model.body(T1.root_link).id]]
-    d.qpos[root_q:root_q + 3] = torso
-    d.qpos[root_q + 3:root_q + 7] = [np.cos(0.2), 0.0, 0.0, np.sin(0.2)]
+    d.qpos[root_q : root_q + 3] = torso
+    d.qpos[root_q + 3 : root_q + 7] = [np.cos(0.2), 0.0, 0.0, np.sin(0.2)]
     for name, q in zip(T1.joint_names, angles):
         d.qpos[model.jnt_qposadr[model.joint(name).id]] = q
     mujoco.mj_kinematics(model, d)
@@ -117,7 +133,7 @@ def test_a_teleport_frame_is_refused_not_misread(model):
     start = frame.index("(nd TRF", frame.index("DSC(agent"))
     head = frame.index("(nd TRF", frame.index("(nd SMN", start))
     slt_end = frame.index(")", head)
-    numbers = frame[head + len("(nd TRF(SLT "):slt_end].split()
+    numbers = frame[head + len("(nd TRF(SLT ") : slt_end].split()
     numbers[12] = "0.3000"
     frame = frame[:head] + "(nd TRF(SLT " + " ".join(numbers) + frame[slt_end:]
     state.apply(frame.encode())

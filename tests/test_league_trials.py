@@ -50,7 +50,7 @@ def t1_kick() -> str:
 def t1_walk() -> str:
     """The other team's T1 walk if it is there, else the T1 standing (a walk of 0 m)."""
     try:
-        agent_spec("other-team-walk", robot="t1").build()
+        agent_spec("other-team-walk", robot="t1").check()
         return "other-team-walk"
     except (MimicError, ImportError):
         return "stand"

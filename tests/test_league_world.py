@@ -31,8 +31,7 @@ def test_the_hosted_server_runs_in_a_temporary_folder(world):
 
 
 def test_a_scene_and_a_motion_run_unchanged(world):
-    scene = Scene(robot_xy_m=(-1.0, 0.5), robot_yaw_rad=0.3, ball_offset_m=(0.3, 0.0),
-                  settle_s=0.4)
+    scene = Scene(robot_xy_m=(-1.0, 0.5), robot_yaw_rad=0.3, ball_offset_m=(0.3, 0.0), settle_s=0.4)
     placement = scene.setup(world, np.random.default_rng(0))
     t0 = world.time_s
     assert np.hypot(*(world.torso_pos_m()[:2] - (-1.0, 0.5))) < 0.05

@@ -15,10 +15,12 @@ runner = CliRunner()
 def study_table(tmp_path):
     """A small table in the study's '::' format (synthetic values)."""
     t, q = smooth_motion(20)
-    names = ("neckYaw neckPitch leftShoulderPitch leftShoulderYaw leftArmRoll leftArmYaw "
-             "rightShoulderPitch rightShoulderYaw rightArmRoll rightArmYaw leftHipYawPitch "
-             "leftHipRoll leftHipPitch leftKneePitch leftFootPitch leftFootRoll rightHipYawPitch "
-             "rightHipRoll rightHipPitch rightKneePitch rightFootPitch rightFootRoll").split()
+    names = (
+        "neckYaw neckPitch leftShoulderPitch leftShoulderYaw leftArmRoll leftArmYaw "
+        "rightShoulderPitch rightShoulderYaw rightArmRoll rightArmYaw leftHipYawPitch "
+        "leftHipRoll leftHipPitch leftKneePitch leftFootPitch leftFootRoll rightHipYawPitch "
+        "rightHipRoll rightHipPitch rightKneePitch rightFootPitch rightFootRoll"
+    ).split()
     head = "::".join(["timestep", *names, "hasEnded"])
     path = tmp_path / "wave.txt"
     rows = ["::".join(f"{v:.6f}" for v in [t[k], *q[k], float(k == 19)]) for k in range(20)]
@@ -50,23 +52,41 @@ def test_train_and_export_study_kick(tmp_path):
 def test_several_inputs_train_into_a_folder(tmp_path, study_table):
     other = tmp_path / "wave2.txt"
     other.write_text(study_table.read_text())
-    res = runner.invoke(app, ["train", str(study_table), str(other), "-o", str(tmp_path / "m"),
-                              "--epochs", "50", "--preset", "paper"])
+    res = runner.invoke(
+        app,
+        [
+            "train",
+            str(study_table),
+            str(other),
+            "-o",
+            str(tmp_path / "m"),
+            "--epochs",
+            "50",
+            "--preset",
+            "paper",
+        ],
+    )
     assert res.exit_code == 0, res.output
     assert load_model(tmp_path / "m" / "wave.mimic").metrics["batch_size"] == 2
     assert (tmp_path / "m" / "wave2.mimic").is_file()
 
 
-@pytest.mark.parametrize("args, words", [
-    (["train", "{missing}", "-o", "{out}"], "no such file"),
-    (["train", "{table}", "-o", "{out}", "--preset", "slow"], "unknown preset"),
-    (["train", "{table}", "-o", "{out}", "--target", "magic"], "unknown target"),
-    (["train", "{table}", "{table}", "-o", "{out}"], "must be a folder"),
-    (["export", "{table}", "--onnx", "{out}"], "not a mimic model file"),
-])
+@pytest.mark.parametrize(
+    "args, words",
+    [
+        (["train", "{missing}", "-o", "{out}"], "no such file"),
+        (["train", "{table}", "-o", "{out}", "--preset", "slow"], "unknown preset"),
+        (["train", "{table}", "-o", "{out}", "--target", "magic"], "unknown target"),
+        (["train", "{table}", "{table}", "-o", "{out}"], "must be a folder"),
+        (["export", "{table}", "--onnx", "{out}"], "not a mimic model file"),
+    ],
+)
 def test_bad_input_gives_one_error_line(tmp_path, study_table, args, words):
-    fill = {"missing": str(tmp_path / "nope.mcap"), "out": str(tmp_path / "o.mimic"),
-            "table": str(study_table)}
+    fill = {
+        "missing": str(tmp_path / "nope.mcap"),
+        "out": str(tmp_path / "o.mimic"),
+        "table": str(study_table),
+    }
     res = runner.invoke(app, [a.format(**fill) for a in args])
     assert res.exit_code == 2
     lines = [ln for ln in res.output.splitlines() if ln.strip()]

@@ -32,7 +32,7 @@ def test_gain_and_cap_are_the_robots_servos():
 def test_unsaturated_compensation_recovers_the_reference():
     t, ref = _sine(0.8, 0.3)
     q = simulate_tracking(t, ref, ref[0], SERVOS)
-    assert np.abs(q - ref).max() > 0.05          # tracking really attenuates/lags
+    assert np.abs(q - ref).max() > 0.05  # tracking really attenuates/lags
     rec = references_from_angles(t, q, SERVOS)
     np.testing.assert_allclose(rec[:-1], ref[:-1], atol=0.01)
     replay = simulate_tracking(t, rec, q[0], SERVOS)
@@ -40,7 +40,7 @@ def test_unsaturated_compensation_recovers_the_reference():
 
 
 def test_saturated_segments_keep_the_speed_cap():
-    t, ref = _sine(2.0, 1.0)                      # peak demand ~12.6 rad/s > 6.14 cap
+    t, ref = _sine(2.0, 1.0)  # peak demand ~12.6 rad/s > 6.14 cap
     q = simulate_tracking(t, ref, ref[0], SERVOS)
     speed = np.diff(q, axis=0) / 0.02
     sat = np.abs(speed) >= SERVOS.max_speed_rad_s * 0.999
@@ -54,10 +54,10 @@ def test_saturated_segments_keep_the_speed_cap():
     # Samples within saturation_tol (2 %) of the cap are pushed to the cap: tiny deviations.
     np.testing.assert_allclose(replay, q, atol=1e-3)
     unsat = ~sat
-    unsat[1:] &= ~sat[:-1]                        # away from segment edges
-    np.testing.assert_allclose(rec[:-1][unsat],
-                               q[:-1][unsat] + speed[unsat] / SERVOS.tracking_gain_per_s,
-                               atol=1e-12)
+    unsat[1:] &= ~sat[:-1]  # away from segment edges
+    np.testing.assert_allclose(
+        rec[:-1][unsat], q[:-1][unsat] + speed[unsat] / SERVOS.tracking_gain_per_s, atol=1e-12
+    )
 
 
 def test_references_are_clipped_to_limits_plus_margin():

@@ -41,14 +41,20 @@ def test_cyclic_motion_uses_phase_input():
     np.testing.assert_allclose(x, [[0, 1], [1, 0], [0, 1]], atol=1e-12)
 
 
-@pytest.mark.parametrize("make, words", [
-    (lambda t, q: joint_frame(t[:0], q[:0]), "empty"),
-    (lambda t, q: joint_frame(t[:1], q[:1]), "single sample"),
-    (lambda t, q: joint_frame(t, np.where(np.arange(22) == 5, np.nan, q)), "NaN"),
-    (lambda t, q: joint_frame(t, q).drop(NAO.joint_names[3]), "21 joint columns"),
-    (lambda t, q: joint_frame(t, q).with_columns(pl.lit(0.0).alias("tail_wag")), "unexpected tail_wag"),
-    (lambda t, q: joint_frame(t[::-1].copy(), q), "time does not increase"),
-])
+@pytest.mark.parametrize(
+    "make, words",
+    [
+        (lambda t, q: joint_frame(t[:0], q[:0]), "empty"),
+        (lambda t, q: joint_frame(t[:1], q[:1]), "single sample"),
+        (lambda t, q: joint_frame(t, np.where(np.arange(22) == 5, np.nan, q)), "NaN"),
+        (lambda t, q: joint_frame(t, q).drop(NAO.joint_names[3]), "21 joint columns"),
+        (
+            lambda t, q: joint_frame(t, q).with_columns(pl.lit(0.0).alias("tail_wag")),
+            "unexpected tail_wag",
+        ),
+        (lambda t, q: joint_frame(t[::-1].copy(), q), "time does not increase"),
+    ],
+)
 def test_bad_tables_raise_one_clear_line(make, words):
     t, q = smooth_motion(10)
     with pytest.raises(DatasetError) as err:

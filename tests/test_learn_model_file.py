@@ -17,8 +17,10 @@ from mimic.learn.train import TrainConfig, train_model
 @pytest.fixture(scope="module")
 def model():
     t, q = smooth_motion(30)
-    ds = dataset_from_frame(joint_frame(t, q), metadata={"motion": "wave", "team": "mimic",
-                                                        "ball_offset_m": [0.15, -0.05]})
+    ds = dataset_from_frame(
+        joint_frame(t, q),
+        metadata={"motion": "wave", "team": "mimic", "ball_offset_m": [0.15, -0.05]},
+    )
     return train_model(ds, TrainConfig(FAST, seed=0, epochs=100))
 
 

@@ -30,11 +30,16 @@ def test_numpy_trainer_matches_torch_adam(motion):
     p0 = init_params(layout, np.random.default_rng(3))
     epochs = 300
     torch_losses, _ = torch_baseline(motion, p0, epochs, lr=1e-3)
-    tr = AdamTrainer(layout, p0[None], motion.time_s[None, :, None], motion.targets[None],
-                     np.array([motion.n_samples]))
+    tr = AdamTrainer(
+        layout,
+        p0[None],
+        motion.time_s[None, :, None],
+        motion.targets[None],
+        np.array([motion.n_samples]),
+    )
     ours = []
     for _ in range(epochs):
-        ours.append(tr.mse()[0])   # loss before the step, as torch reports it
+        ours.append(tr.mse()[0])  # loss before the step, as torch reports it
         tr.run(1, 1e-3)
     ours = np.array(ours)
     assert ours[-1] < 0.5 * ours[0]

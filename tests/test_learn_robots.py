@@ -24,8 +24,9 @@ T1 = get_robot("t1")
 @pytest.fixture(scope="module")
 def t1_model():
     t, q = smooth_motion(30, robot="t1")
-    ds = dataset_from_frame(joint_frame(t, q, robot="t1"), robot="t1",
-                            metadata={"motion": "t1_wave"})
+    ds = dataset_from_frame(
+        joint_frame(t, q, robot="t1"), robot="t1", metadata={"motion": "t1_wave"}
+    )
     assert ds.robot == "t1" and ds.joint_names == T1.joint_names
     assert ds.targets.shape == (30, T1.num_joints + 1)
     return train_model(ds, TrainConfig(FAST, seed=0, epochs=200))

@@ -28,7 +28,8 @@ def _play(agent, offset_m, *, seed=None, falls=None):
     world = MujocoWorld()
     noise = PoseNoise(joint_rad=0.01 if seed is not None else 0.0)
     Scene(ball_offset_m=tuple(offset_m), ball_after_settle=True, noise=noise).setup(
-        world, np.random.default_rng(seed or 0))
+        world, np.random.default_rng(seed or 0)
+    )
     start = world.ball_pos_m()
     reached = _Reached()
     episode = Episode(world, observers=(reached,), falls=falls or FallCounter())
@@ -58,8 +59,9 @@ def kick_recording(tmp_path_factory):
 @pytest.fixture(scope="module")
 def learned_kick(kick_recording):
     # The default fast schedule: the ended flag needs the full fit to rise on time.
-    return train_model(training_dataset(kick_recording),
-                       TrainConfig(preset=get_preset("fast"), seed=0))
+    return train_model(
+        training_dataset(kick_recording), TrainConfig(preset=get_preset("fast"), seed=0)
+    )
 
 
 def test_learned_kick_reaches_the_originals_angles_and_kicks(learned_kick):
@@ -77,8 +79,9 @@ def test_balance_leaves_a_one_shot_motions_swing_leg_alone(learned_kick):
     world.reset()
     world.place_robot(0.0, 0.0, 0.0, nao().stand_pose())
     rolled_0_1_rad = np.array([np.cos(0.05), np.sin(0.05), 0.0, 0.0])
-    tilted = dataclasses.replace(world.observe(), gyro_rad_s=np.zeros(3),
-                                 torso_quat_wxyz=rolled_0_1_rad)
+    tilted = dataclasses.replace(
+        world.observe(), gyro_rad_s=np.zeros(3), torso_quat_wxyz=rolled_0_1_rad
+    )
     kick = BalancedAgent(NeuralPlayer(learned_kick))
     assert not kick.swing_feedback
     assert kick.ball_offset_m == NeuralPlayer(learned_kick).ball_offset_m
@@ -88,18 +91,24 @@ def test_balance_leaves_a_one_shot_motions_swing_leg_alone(learned_kick):
     moved = {name for name, d in zip(nao().joint_names, shift) if abs(d) > 1e-9}
     assert moved == {f"{support}_ankle_roll"}, "a pure roll moves the support ankle roll only"
     # A walk keeps the swing-leg correction (its swing foot lands where the hip puts it).
-    assert BalancedAgent(NeuralPlayer(learned_kick), swing_feedback=True).tilt_correction_rad(
-        tilted)[nao().joint_index(f"{swing}_hip_roll")] != 0.0
+    assert (
+        BalancedAgent(NeuralPlayer(learned_kick), swing_feedback=True).tilt_correction_rad(tilted)[
+            nao().joint_index(f"{swing}_hip_roll")
+        ]
+        != 0.0
+    )
 
 
 @pytest.mark.parametrize("seed", [0, 1])
 def test_kick_learned_from_joint_states_kicks_without_falling_in_the_balance_layer(
-        kick_recording, seed):
+    kick_recording, seed
+):
     """Beyond the study: only the angles an observer sees, the study's reached-angle target,
     and the balance layer on the support ankle (network seed 0 and 1; without balance the
     seed-1 copy falls in every kick of our seeded check)."""
-    model = train_model(training_dataset(kick_recording, JOINT_STATES, TARGET_REACHED),
-                        TrainConfig(seed=seed))
+    model = train_model(
+        training_dataset(kick_recording, JOINT_STATES, TARGET_REACHED), TrainConfig(seed=seed)
+    )
     assert model.metadata["topic"] == JOINT_STATES
     offset = load_motion("kick_right").ball_offset_m
     falls = FallCounter()

@@ -30,11 +30,14 @@ PERIODS = 8
 def walk_model(tmp_path_factory):
     out = tmp_path_factory.mktemp("walk")
     mcap = out / "other_team_walk.mcap"
-    rec = record("other-team-walk", mcap, observe_only=True, warmup_s=WARMUP_S,
-                 duration_s=PERIODS * 0.32)
+    rec = record(
+        "other-team-walk", mcap, observe_only=True, warmup_s=WARMUP_S, duration_s=PERIODS * 0.32
+    )
     assert rec.info.period_s == pytest.approx(0.32)
-    model = train_model(training_dataset(mcap, target="compensated"),
-                        TrainConfig(preset=get_preset("fast"), seed=0, epochs=4000))
+    model = train_model(
+        training_dataset(mcap, target="compensated"),
+        TrainConfig(preset=get_preset("fast"), seed=0, epochs=4000),
+    )
     return save_model(model, out / "other_team_walk.mimic")
 
 
@@ -49,8 +52,9 @@ def test_cyclic_start_blends_from_the_start_pose_into_the_cycle(walk_model):
     player.reset(Obs())
     np.testing.assert_allclose(player.cyclic_reference(0.0)[:22], Obs.joint_angles_rad)
     # Right after the stance blend: the cycle's mean pose, no swing yet.
-    np.testing.assert_allclose(player.cyclic_reference(player.stance_s)[:22],
-                               player.mean_pose_rad(), atol=1e-9)
+    np.testing.assert_allclose(
+        player.cyclic_reference(player.stance_s)[:22], player.mean_pose_rad(), atol=1e-9
+    )
     # After the ramp: the network's own cycle, phase 0 at the end of the stance blend.
     t = player.stance_s + player.start_ramp_s + 0.1
     np.testing.assert_allclose(player.cyclic_reference(t), player.reference_at(t - player.stance_s))

@@ -64,9 +64,11 @@ def test_stand_pose_foot_is_flat_under_the_hip() -> None:
 # with the hip no more than 60 deg off the foot's vertical (seen from the foot, a leg lying
 # along the sole leaves the ankle roll undefined: the roll singularity of this chain).
 @settings(max_examples=300, deadline=None)
-@given(side=st.sampled_from(SIDES),
-       u=st.lists(st.floats(0.02, 0.98), min_size=6, max_size=6),
-       knee=st.floats(-2.0, -0.15))
+@given(
+    side=st.sampled_from(SIDES),
+    u=st.lists(st.floats(0.02, 0.98), min_size=6, max_size=6),
+    knee=st.floats(-2.0, -0.15),
+)
 def test_ik_inverts_fk(side: str, u: list[float], knee: float) -> None:
     q = _angles_in_limits(side, u)
     q[3] = knee
@@ -82,9 +84,11 @@ def test_ik_inverts_fk(side: str, u: list[float], knee: float) -> None:
 
 
 @settings(max_examples=200, deadline=None)
-@given(side=st.sampled_from(SIDES),
-       pos=st.lists(st.floats(-1.0, 1.0), min_size=3, max_size=3),
-       rpy=st.lists(st.floats(-math.pi, math.pi), min_size=3, max_size=3))
+@given(
+    side=st.sampled_from(SIDES),
+    pos=st.lists(st.floats(-1.0, 1.0), min_size=3, max_size=3),
+    rpy=st.lists(st.floats(-math.pi, math.pi), min_size=3, max_size=3),
+)
 def test_any_target_gives_finite_angles_within_limits(side, pos, rpy) -> None:
     q = leg_ik(side, np.array(pos), rpy_matrix(*rpy))
     g = leg_geometry(side)

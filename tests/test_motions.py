@@ -40,8 +40,9 @@ def test_format_then_parse_gives_the_same_motion(name):
 
 
 def test_round_trip_keeps_a_ball_offset_and_a_speed_rate():
-    movement = dataclasses.replace(load_motion("stand"), ball_offset_m=(0.18, -0.055),
-                                   speed_rate=1.25)
+    movement = dataclasses.replace(
+        load_motion("stand"), ball_offset_m=(0.18, -0.055), speed_rate=1.25
+    )
     back = parse_motion(format_motion(movement))
     assert back == movement
     assert back != dataclasses.replace(movement, ball_offset_m=(0.18, 0.055))
@@ -55,13 +56,16 @@ def test_kick_left_is_the_mirror_of_kick_right():
         np.testing.assert_allclose(mirrored.angles_rad, mirror_angles(r.angles_rad))
 
 
-@pytest.mark.parametrize("text, line, words", [
-    ("motion x\nstep 0.5\nleft_knee_pich -40\n", 3, "unknown joint"),
-    ("motion x\nstep 0.5\nleft_knee_pitch forty\n", 3, "needs a number"),
-    ("motion x\nspeed_rate 1\n", None, "no 'step'"),
-    ("motion x\nball_offset 0.2\nstep 0.5\n", 2, "cannot read"),
-    ("motion x\nstep -1\n", 2, "step time"),
-])
+@pytest.mark.parametrize(
+    "text, line, words",
+    [
+        ("motion x\nstep 0.5\nleft_knee_pich -40\n", 3, "unknown joint"),
+        ("motion x\nstep 0.5\nleft_knee_pitch forty\n", 3, "needs a number"),
+        ("motion x\nspeed_rate 1\n", None, "no 'step'"),
+        ("motion x\nball_offset 0.2\nstep 0.5\n", 2, "cannot read"),
+        ("motion x\nstep -1\n", 2, "step time"),
+    ],
+)
 def test_bad_motion_files_name_the_file_and_line(text, line, words):
     with pytest.raises(MotionFileError) as err:
         parse_motion(text, "bad.txt")

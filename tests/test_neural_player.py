@@ -75,7 +75,7 @@ def test_learned_arm_wave_follows_the_original(tmp_path):
     n = min(len(learned), len(original))
     assert n >= N - 2
     shoulder = nao().joint_index("left_shoulder_pitch")
-    assert np.ptp(original[:n, shoulder]) > 0.5   # the arm really moved
+    assert np.ptp(original[:n, shoulder]) > 0.5  # the arm really moved
     assert np.abs(learned[:n] - original[:n]).max() < 0.05
 
 

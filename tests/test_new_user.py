@@ -19,6 +19,7 @@ from types import SimpleNamespace
 
 import numpy as np
 import pytest
+from _learn_helpers import smooth_motion
 from typer.testing import CliRunner
 
 from mimic.cli.main import app
@@ -26,8 +27,6 @@ from mimic.recording import layout as L
 from mimic.recording.reader import read_joint_table, read_recording
 from mimic.recording.recorder import record
 from mimic.recording.writer import RecordingWriter
-
-from _learn_helpers import smooth_motion
 
 REPO = Path(__file__).resolve().parents[1]
 SHIPPED_KICK = REPO / "recordings" / "kick_right.mcap"
@@ -37,8 +36,9 @@ runner = CliRunner()
 def cli(*args) -> SimpleNamespace:
     result = runner.invoke(app, [str(a) for a in args])
     out = result.output
-    return SimpleNamespace(code=result.exit_code, out=out, lines=[ln for ln in out.splitlines()
-                                                                  if ln.strip()])
+    return SimpleNamespace(
+        code=result.exit_code, out=out, lines=[ln for ln in out.splitlines() if ln.strip()]
+    )
 
 
 def one_error_line(res, *words) -> None:
@@ -53,8 +53,10 @@ def one_error_line(res, *words) -> None:
 @pytest.fixture()
 def no_episodes(monkeypatch):
     """Any trial that gets as far as running an episode fails the test."""
+
     def forbidden(*args, **kwargs):
         raise AssertionError("an episode ran before the checks")
+
     monkeypatch.setattr("mimic.trials.api.run_episodes", forbidden)
 
 
@@ -70,16 +72,18 @@ def files(tmp_path_factory) -> SimpleNamespace:
     assert res.code == 0, res.out
     data = bytearray(model.read_bytes())
     mid = len(data) // 2
-    data[mid:mid + 40] = bytes(b ^ 0xFF for b in data[mid:mid + 40])
+    data[mid : mid + 40] = bytes(b ^ 0xFF for b in data[mid : mid + 40])
     broken = root / "broken.mimic"
     broken.write_bytes(bytes(data))
     table = root / "wave.txt"
     t, q = smooth_motion(20)
-    names = ("neckYaw neckPitch leftShoulderPitch leftShoulderYaw leftArmRoll leftArmYaw "
-             "rightShoulderPitch rightShoulderYaw rightArmRoll rightArmYaw leftHipYawPitch "
-             "leftHipRoll leftHipPitch leftKneePitch leftFootPitch leftFootRoll "
-             "rightHipYawPitch rightHipRoll rightHipPitch rightKneePitch rightFootPitch "
-             "rightFootRoll").split()
+    names = (
+        "neckYaw neckPitch leftShoulderPitch leftShoulderYaw leftArmRoll leftArmYaw "
+        "rightShoulderPitch rightShoulderYaw rightArmRoll rightArmYaw leftHipYawPitch "
+        "leftHipRoll leftHipPitch leftKneePitch leftFootPitch leftFootRoll "
+        "rightHipYawPitch rightHipRoll rightHipPitch rightKneePitch rightFootPitch "
+        "rightFootRoll"
+    ).split()
     rows = ["::".join(f"{v:.6f}" for v in [t[k], *q[k], float(k == 19)]) for k in range(20)]
     table.write_text("\n".join(["::".join(["timestep", *names, "hasEnded"]), *rows]) + "\n")
     return SimpleNamespace(root=root, stand=stand, model=model, broken=broken, table=table)
@@ -90,6 +94,7 @@ def partials(folder: Path) -> list[Path]:
 
 
 # --- 1. A file is lost ---------------------------------------------------------------------
+
 
 def test_failed_view_keeps_the_good_rrd_and_leaves_no_stub(files, tmp_path):
     good = tmp_path / "good.rrd"
@@ -109,24 +114,54 @@ def _outputs_cases(files, tmp_path):
         "import": ["import", files.table, "-o", out.with_suffix(".mcap")],
         "view": ["view", files.stand, "--save", out.with_suffix(".rrd")],
         "train": ["train", files.table, "-o", out.with_suffix(".mimic"), "--epochs", "10"],
-        "train --save": ["train", files.table, "-o", tmp_path / "new.mimic", "--epochs", "10",
-                         "--save", out.with_suffix(".rrd")],
+        "train --save": [
+            "train",
+            files.table,
+            "-o",
+            tmp_path / "new.mimic",
+            "--epochs",
+            "10",
+            "--save",
+            out.with_suffix(".rrd"),
+        ],
         "export": ["export", files.model, "--onnx", out.with_suffix(".onnx")],
-        "trial -o": ["trial", "kick", "kick_right", "--minutes", "1", "-o",
-                     out.with_suffix(".parquet")],
-        "trial --save": ["trial", "walk", "walk", "--runs", "1", "--save",
-                         out.with_suffix(".rrd")],
+        "trial -o": [
+            "trial",
+            "kick",
+            "kick_right",
+            "--minutes",
+            "1",
+            "-o",
+            out.with_suffix(".parquet"),
+        ],
+        "trial --save": ["trial", "walk", "walk", "--runs", "1", "--save", out.with_suffix(".rrd")],
         "demo": ["demo", "-o", tmp_path],
     }
 
 
-@pytest.mark.parametrize("command", ["record", "import", "view", "train", "train --save",
-                                     "export", "trial -o", "trial --save", "demo"])
-def test_no_command_replaces_an_existing_output_without_force(files, tmp_path, no_episodes,
-                                                              command):
+@pytest.mark.parametrize(
+    "command",
+    [
+        "record",
+        "import",
+        "view",
+        "train",
+        "train --save",
+        "export",
+        "trial -o",
+        "trial --save",
+        "demo",
+    ],
+)
+def test_no_command_replaces_an_existing_output_without_force(
+    files, tmp_path, no_episodes, command
+):
     args = _outputs_cases(files, tmp_path)[command]
-    target = Path(next(a for a in args if "existing" in str(a))) if command != "demo" \
+    target = (
+        Path(next(a for a in args if "existing" in str(a)))
+        if command != "demo"
         else tmp_path / "kick_right.mcap"
+    )
     target.write_bytes(b"precious")
     res = cli(*args)
     one_error_line(res, str(target), "exists", "--force")
@@ -143,12 +178,15 @@ def test_force_replaces_an_existing_output(files, tmp_path, command):
     assert target.read_bytes() != b"old" and not partials(tmp_path)
 
 
-@pytest.mark.parametrize("args", [
-    ["train", "{broken}", "-o", "{out}.mimic"],
-    ["export", "{broken}", "--onnx", "{out}.onnx"],
-    ["import", "{model}", "-o", "{out}.mcap"],
-    ["view", "{model}", "--save", "{out}.rrd"],
-])
+@pytest.mark.parametrize(
+    "args",
+    [
+        ["train", "{broken}", "-o", "{out}.mimic"],
+        ["export", "{broken}", "--onnx", "{out}.onnx"],
+        ["import", "{model}", "-o", "{out}.mcap"],
+        ["view", "{model}", "--save", "{out}.rrd"],
+    ],
+)
 def test_failed_commands_leave_no_file(files, tmp_path, args):
     fill = {"broken": files.broken, "model": files.model, "out": tmp_path / "out"}
     res = cli(*[a.format(**fill) for a in args])
@@ -160,10 +198,15 @@ def test_a_killed_recording_keeps_what_it_wrote(tmp_path):
     out = tmp_path / "long.mcap"
     mimic = Path(sys.executable).with_name("mimic")
     cmd = [str(mimic)] if mimic.exists() else [sys.executable, "-m", "mimic.cli.main"]
-    proc = subprocess.Popen(cmd + ["record", "stand", "-o", str(out), "--duration", "600"],
-                            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    proc = subprocess.Popen(
+        cmd + ["record", "stand", "-o", str(out), "--duration", "600"],
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.DEVNULL,
+    )
     deadline = time.monotonic() + 60
-    while time.monotonic() < deadline and sum(p.stat().st_size for p in partials(tmp_path)) < 20_000:
+    while (
+        time.monotonic() < deadline and sum(p.stat().st_size for p in partials(tmp_path)) < 20_000
+    ):
         time.sleep(0.1)
     proc.send_signal(signal.SIGKILL)
     proc.wait(timeout=60)
@@ -175,25 +218,37 @@ def test_a_killed_recording_keeps_what_it_wrote(tmp_path):
 
 # --- 2. A hang -----------------------------------------------------------------------------
 
-@pytest.mark.parametrize("args, flag", [
-    (["trial", "kick", "--compare", "kick_right", "kick_left", "--minutes", "nan"], "--minutes"),
-    (["trial", "kick", "--compare", "kick_right", "kick_left", "--minutes", "inf"], "--minutes"),
-    (["trial", "kick", "--minutes", "0"], "--minutes"),
-    (["trial", "walk", "--minutes", "-inf"], "--minutes"),
-    (["trial", "walk", "--minutes", "nan"], "--minutes"),
-    (["trial", "walk", "--speed-rate", "nan"], "--speed-rate"),
-    (["trial", "walk", "--speed-rate", "inf"], "--speed-rate"),
-    (["record", "stand", "-o", "{tmp}/x.mcap", "--duration", "nan"], "--duration"),
-    (["record", "stand", "-o", "{tmp}/x.mcap", "--duration", "inf"], "--duration"),
-    (["record", "walk", "-o", "{tmp}/x.mcap", "--warmup", "inf"], "--warmup"),
-    (["import", "{tmp}/t.txt", "-o", "{tmp}/x.mcap", "--distance", "nan"], "--distance"),
-    (["demo", "-o", "{tmp}/d", "--minutes", "nan"], "--minutes"),
-    (["paper", "-o", "{tmp}/p", "--minutes", "inf"], "--minutes"),
-])
-def test_every_float_option_must_be_finite_and_in_range(tmp_path, no_episodes, monkeypatch,
-                                                        args, flag):
+
+@pytest.mark.parametrize(
+    "args, flag",
+    [
+        (
+            ["trial", "kick", "--compare", "kick_right", "kick_left", "--minutes", "nan"],
+            "--minutes",
+        ),
+        (
+            ["trial", "kick", "--compare", "kick_right", "kick_left", "--minutes", "inf"],
+            "--minutes",
+        ),
+        (["trial", "kick", "--minutes", "0"], "--minutes"),
+        (["trial", "walk", "--minutes", "-inf"], "--minutes"),
+        (["trial", "walk", "--minutes", "nan"], "--minutes"),
+        (["trial", "walk", "--speed-rate", "nan"], "--speed-rate"),
+        (["trial", "walk", "--speed-rate", "inf"], "--speed-rate"),
+        (["record", "stand", "-o", "{tmp}/x.mcap", "--duration", "nan"], "--duration"),
+        (["record", "stand", "-o", "{tmp}/x.mcap", "--duration", "inf"], "--duration"),
+        (["record", "walk", "-o", "{tmp}/x.mcap", "--warmup", "inf"], "--warmup"),
+        (["import", "{tmp}/t.txt", "-o", "{tmp}/x.mcap", "--distance", "nan"], "--distance"),
+        (["demo", "-o", "{tmp}/d", "--minutes", "nan"], "--minutes"),
+        (["paper", "-o", "{tmp}/p", "--minutes", "inf"], "--minutes"),
+    ],
+)
+def test_every_float_option_must_be_finite_and_in_range(
+    tmp_path, no_episodes, monkeypatch, args, flag
+):
     def forbidden(*a, **k):
         raise AssertionError("recorded before checking the options")
+
     monkeypatch.setattr("mimic.pipeline.record", forbidden)
     res = cli(*[a.format(tmp=tmp_path) for a in args])
     one_error_line(res, flag, "finite")
@@ -202,26 +257,33 @@ def test_every_float_option_must_be_finite_and_in_range(tmp_path, no_episodes, m
 
 # --- 3. Tracebacks instead of one line -----------------------------------------------------
 
-@pytest.mark.parametrize("args", [
-    ["info", "{broken}"],
-    ["export", "{broken}", "--onnx", "{tmp}/x.onnx"],
-    ["trial", "kick", "--compare", "kick_right", "{broken}", "--minutes", "1"],
-    ["trial", "walk", "--compare", "walk", "{broken}", "--runs", "1"],
-    ["record", "--model", "{broken}", "-o", "{tmp}/x.mcap"],
-])
+
+@pytest.mark.parametrize(
+    "args",
+    [
+        ["info", "{broken}"],
+        ["export", "{broken}", "--onnx", "{tmp}/x.onnx"],
+        ["trial", "kick", "--compare", "kick_right", "{broken}", "--minutes", "1"],
+        ["trial", "walk", "--compare", "walk", "{broken}", "--runs", "1"],
+        ["record", "--model", "{broken}", "-o", "{tmp}/x.mcap"],
+    ],
+)
 def test_a_model_file_with_flipped_bytes_is_one_line(files, tmp_path, no_episodes, args):
     res = cli(*[a.format(broken=files.broken, tmp=tmp_path) for a in args])
     one_error_line(res, "broken.mimic", "broken model file", "CRC")
 
 
-@pytest.mark.parametrize("args", [
-    ["trial", "kick", "--seed", "-5"],
-    ["trial", "walk", "--seed", "-5"],
-    ["train", "{table}", "-o", "{tmp}/x.mimic", "--seed", "-5"],
-    ["record", "stand", "-o", "{tmp}/x.mcap", "--seed", "-5"],
-    ["demo", "-o", "{tmp}/d", "--seed", "-5"],
-    ["trial", "kick", "--seed", str(2**32)],
-])
+@pytest.mark.parametrize(
+    "args",
+    [
+        ["trial", "kick", "--seed", "-5"],
+        ["trial", "walk", "--seed", "-5"],
+        ["train", "{table}", "-o", "{tmp}/x.mimic", "--seed", "-5"],
+        ["record", "stand", "-o", "{tmp}/x.mcap", "--seed", "-5"],
+        ["demo", "-o", "{tmp}/d", "--seed", "-5"],
+        ["trial", "kick", "--seed", str(2**32)],
+    ],
+)
 def test_a_negative_seed_is_one_line(files, tmp_path, no_episodes, args):
     res = cli(*[a.format(table=files.table, tmp=tmp_path) for a in args])
     one_error_line(res, "--seed", "0 to 4294967295")
@@ -249,9 +311,11 @@ def test_trial_save_to_an_impossible_place_fails_before_the_trial(tmp_path, no_e
 
 # --- 4. Checks before work -----------------------------------------------------------------
 
+
 def test_trial_checks_every_variant_before_the_first(files, tmp_path, no_episodes):
-    res = cli("trial", "kick", "--compare", "kick_right", files.model, files.broken,
-              "--minutes", "1")
+    res = cli(
+        "trial", "kick", "--compare", "kick_right", files.model, files.broken, "--minutes", "1"
+    )
     one_error_line(res, "broken.mimic")
     other = tmp_path / "other_robot.mimic"
     with zipfile.ZipFile(files.model) as src, zipfile.ZipFile(other, "w") as dst:
@@ -285,33 +349,45 @@ def test_compare_with_an_unknown_variant_names_it(no_episodes):
     one_error_line(res, "at least two variants")
 
 
-@pytest.mark.parametrize("args", [
-    ["info", "{dir}"], ["train", "{dir}", "-o", "{tmp}/x.mimic"],
-    ["export", "{dir}", "--onnx", "{tmp}/x.onnx"], ["view", "{dir}"],
-    ["import", "{dir}", "-o", "{tmp}/x.mcap"], ["record", "--model", "{dir}", "-o", "{tmp}/x.mcap"],
-])
+@pytest.mark.parametrize(
+    "args",
+    [
+        ["info", "{dir}"],
+        ["train", "{dir}", "-o", "{tmp}/x.mimic"],
+        ["export", "{dir}", "--onnx", "{tmp}/x.onnx"],
+        ["view", "{dir}"],
+        ["import", "{dir}", "-o", "{tmp}/x.mcap"],
+        ["record", "--model", "{dir}", "-o", "{tmp}/x.mcap"],
+    ],
+)
 def test_a_directory_given_as_input_is_named_as_a_directory(tmp_path, args):
-    folder = tmp_path / "folder.mimic" if "--model" in args or "export" in args \
+    folder = (
+        tmp_path / "folder.mimic"
+        if "--model" in args or "export" in args
         else tmp_path / "folder.mcap"
+    )
     folder.mkdir()
     res = cli(*[a.format(dir=folder, tmp=tmp_path) for a in args])
     one_error_line(res, "is a directory")
     assert "no such file" not in res.out
 
 
-@pytest.mark.parametrize("args, flag", [
-    (["trial", "kick", "--workers", "0"], "--workers"),
-    (["trial", "kick", "--workers", "-3"], "--workers"),
-    (["trial", "walk", "--workers", "0"], "--workers"),
-    (["trial", "walk", "--runs", "0"], "--runs"),
-    (["trial", "walk", "--speed-rate", "0"], "--speed-rate"),
-    (["trial", "walk", "--speed-rate", "-1"], "--speed-rate"),
-    (["record", "walk", "-o", "{tmp}/x.mcap", "--warmup", "-3"], "--warmup"),
-    (["record", "stand", "-o", "{tmp}/x.mcap", "--duration", "0"], "--duration"),
-    (["train", "{table}", "-o", "{tmp}/x.mimic", "--epochs", "0"], "--epochs"),
-    (["demo", "-o", "{tmp}/d", "--workers", "0"], "--workers"),
-    (["bench", "train", "--batch", "0"], "--batch"),
-])
+@pytest.mark.parametrize(
+    "args, flag",
+    [
+        (["trial", "kick", "--workers", "0"], "--workers"),
+        (["trial", "kick", "--workers", "-3"], "--workers"),
+        (["trial", "walk", "--workers", "0"], "--workers"),
+        (["trial", "walk", "--runs", "0"], "--runs"),
+        (["trial", "walk", "--speed-rate", "0"], "--speed-rate"),
+        (["trial", "walk", "--speed-rate", "-1"], "--speed-rate"),
+        (["record", "walk", "-o", "{tmp}/x.mcap", "--warmup", "-3"], "--warmup"),
+        (["record", "stand", "-o", "{tmp}/x.mcap", "--duration", "0"], "--duration"),
+        (["train", "{table}", "-o", "{tmp}/x.mimic", "--epochs", "0"], "--epochs"),
+        (["demo", "-o", "{tmp}/d", "--workers", "0"], "--workers"),
+        (["bench", "train", "--batch", "0"], "--batch"),
+    ],
+)
 def test_counts_and_rates_out_of_range_are_one_line(files, tmp_path, no_episodes, args, flag):
     res = cli(*[a.format(tmp=tmp_path, table=files.table) for a in args])
     one_error_line(res, flag)
@@ -319,6 +395,7 @@ def test_counts_and_rates_out_of_range_are_one_line(files, tmp_path, no_episodes
 
 
 # --- 5. Silent bad results -----------------------------------------------------------------
+
 
 def _cut_recording(tmp_path) -> Path:
     data = SHIPPED_KICK.read_bytes()
@@ -363,10 +440,17 @@ def test_poor_fit_of_many_cycles_suggests_learning_one():
     from mimic.learn.checks import fit_warnings
     from mimic.learn.dataset import Dataset
     from mimic.robot.registry import get_robot
+
     t = np.arange(0, 97, 0.02)
     nao = get_robot("nao")
-    walk = Dataset(t, np.zeros((len(t), nao.num_joints + 1)), nao.name, nao.joint_names, 0.28,
-                   {"motion": "walk"})
+    walk = Dataset(
+        t,
+        np.zeros((len(t), nao.num_joints + 1)),
+        nao.name,
+        nao.joint_names,
+        0.28,
+        {"motion": "walk"},
+    )
     model = SimpleNamespace(name="walk", metrics={"mae_rad": 0.166})
     (warning,) = fit_warnings(model, walk)
     assert "0.166 rad" in warning and "one steady cycle" in warning
@@ -375,6 +459,7 @@ def test_poor_fit_of_many_cycles_suggests_learning_one():
 
 def test_info_on_an_mcap_without_joint_states_says_so(tmp_path):
     from mcap.writer import Writer
+
     path = tmp_path / "foreign.mcap"
     with open(path, "wb") as f:
         w = Writer(f)
@@ -393,33 +478,71 @@ def test_info_on_an_mcap_without_joint_states_says_so(tmp_path):
 
 # --- 7. Tables and progress ----------------------------------------------------------------
 
+
 def _paper_tables():
     import polars as pl
 
     from mimic.pipeline import network_summary
     from mimic.trials.report import STUDY_KICK, STUDY_WALK
-    metrics = {"kick_right": {"mae_rad": 0.0043, "max_error_rad": 0.05, "epochs": 25000},
-               "kick_right from /joint_states": {"mae_rad": 0.0061, "max_error_rad": 0.07,
-                                                 "epochs": 25000},
-               "other_team_walk": {"mae_rad": 0.0102, "max_error_rad": 0.22, "epochs": 25000}}
-    kick = pl.concat([STUDY_KICK, pl.DataFrame({
-        "variant": ["kick_right", "kick_right (learned)",
-                    "kick_right_observed (learned) + balance"],
-        "attempts": [68, 59, 60], "successful": [60, 51, 52],
-        "accuracy_pct": [88.235, 86.44, 86.67], "mean_distance_m": [3.371, 3.39, 3.95],
-        "std_distance_m": [1.29, 1.23, 1.75], "goals": [14, 10, 14], "falls": [2, 2, 2]})],
-        how="vertical_relaxed")
-    walk = pl.concat([STUDY_WALK, pl.DataFrame({
-        "variant": ["other-team-walk", "other_team_walk (learned)",
-                    "other_team_walk (learned) + balance"],
-        "runs": [54, 21, 48], "mean_speed_m_s": [0.439, 0.234, 0.39],
-        "std_speed_m_s": [0.02, 0.058, 0.021], "mean_y_error_m": [0.27, 0.25, 0.3],
-        "std_y_error_m": [0.18, 0.31, 0.19], "falls": [2, 21, 1]})], how="vertical_relaxed")
+
+    metrics = {
+        "kick_right": {"mae_rad": 0.0043, "max_error_rad": 0.05, "epochs": 25000},
+        "kick_right from /joint_states": {
+            "mae_rad": 0.0061,
+            "max_error_rad": 0.07,
+            "epochs": 25000,
+        },
+        "other_team_walk": {"mae_rad": 0.0102, "max_error_rad": 0.22, "epochs": 25000},
+    }
+    kick = pl.concat(
+        [
+            STUDY_KICK,
+            pl.DataFrame(
+                {
+                    "variant": [
+                        "kick_right",
+                        "kick_right (learned)",
+                        "kick_right_observed (learned) + balance",
+                    ],
+                    "attempts": [68, 59, 60],
+                    "successful": [60, 51, 52],
+                    "accuracy_pct": [88.235, 86.44, 86.67],
+                    "mean_distance_m": [3.371, 3.39, 3.95],
+                    "std_distance_m": [1.29, 1.23, 1.75],
+                    "goals": [14, 10, 14],
+                    "falls": [2, 2, 2],
+                }
+            ),
+        ],
+        how="vertical_relaxed",
+    )
+    walk = pl.concat(
+        [
+            STUDY_WALK,
+            pl.DataFrame(
+                {
+                    "variant": [
+                        "other-team-walk",
+                        "other_team_walk (learned)",
+                        "other_team_walk (learned) + balance",
+                    ],
+                    "runs": [54, 21, 48],
+                    "mean_speed_m_s": [0.439, 0.234, 0.39],
+                    "std_speed_m_s": [0.02, 0.058, 0.021],
+                    "mean_y_error_m": [0.27, 0.25, 0.3],
+                    "std_y_error_m": [0.18, 0.31, 0.19],
+                    "falls": [2, 21, 1],
+                }
+            ),
+        ],
+        how="vertical_relaxed",
+    )
     return network_summary(metrics), kick, walk
 
 
 def test_paper_tables_fit_80_columns_with_every_name_and_number_whole():
     from mimic.cli import pipeline as cli_pipeline
+
     network, kick, walk = _paper_tables()
     console = cli_pipeline.console
     width, console.width = console.width, 80
@@ -447,8 +570,10 @@ def test_paper_tables_fit_80_columns_with_every_name_and_number_whole():
 def test_walk_progress_counts_runs_not_kicks():
     from mimic.trials.parallel import EpisodeBatch
     from mimic.trials.report import progress_status
-    walk = EpisodeBatch([{"speed_m_s": 0.4}] * 4,
-                        [{"duration_s": 30.0, "falls": f} for f in (0, 1, 0, 0)])
+
+    walk = EpisodeBatch(
+        [{"speed_m_s": 0.4}] * 4, [{"duration_s": 30.0, "falls": f} for f in (0, 1, 0, 0)]
+    )
     line = progress_status(walk, 30.0, None)
     assert "kicks" not in line and "goals" not in line
     assert "4 runs" in line and "1 fall" in line and "2.0/30 min" in line
@@ -461,8 +586,10 @@ def test_progress_lines_fit_80_columns():
 
     from mimic.cli import trial as cli_trial
     from mimic.trials.parallel import EpisodeBatch
-    batch = EpisodeBatch([{}] * 140, [{"duration_s": 1798.0, "kicks": 140, "goals": 30,
-                                       "falls": 12}])
+
+    batch = EpisodeBatch(
+        [{}] * 140, [{"duration_s": 1798.0, "kicks": 140, "goals": 30, "falls": 12}]
+    )
     progress = cli_trial.TrialProgress(30.0, None)
     progress.live = True  # as on a terminal, without starting the live display
     progress._bar.start = lambda: None
@@ -478,6 +605,7 @@ def test_progress_lines_fit_80_columns():
 def test_progress_without_a_terminal_prints_lines(monkeypatch):
     from mimic.cli import trial as cli_trial
     from mimic.trials.parallel import EpisodeBatch
+
     monkeypatch.setattr(cli_trial, "PLAIN_PROGRESS_EVERY_S", 0.0)
     assert not cli_trial.console.is_terminal or pytest.skip("stdout is a terminal")
     with cli_trial.console.capture() as captured:
@@ -485,11 +613,15 @@ def test_progress_without_a_terminal_prints_lines(monkeypatch):
             for k in range(1, 4):
                 progress("walk", EpisodeBatch([{}] * k, [{"duration_s": 20.0, "falls": 0}] * k))
     assert [ln for ln in captured.get().splitlines()] == [
-        "walk: 1/3 runs 0 falls", "walk: 2/3 runs 0 falls", "walk: 3/3 runs 0 falls"]
+        "walk: 1/3 runs 0 falls",
+        "walk: 2/3 runs 0 falls",
+        "walk: 3/3 runs 0 falls",
+    ]
 
 
 def test_wilson_and_t_intervals():
     from mimic.trials.stats import mean_interval, t_quantile_95, wilson_interval
+
     low, high = wilson_interval(60, 68)  # the README's 88.2 % of our kick
     assert (round(low, 4), round(high, 4)) == (0.7847, 0.9392)
     assert wilson_interval(0, 21)[0] == 0.0 and wilson_interval(21, 21)[1] == 1.0
@@ -503,9 +635,11 @@ def test_wilson_and_t_intervals():
 
 # --- 8. Interop ----------------------------------------------------------------------------
 
+
 def test_recordings_carry_data_crcs_and_wall_clock_log_times(tmp_path):
     from mcap.records import Chunk, DataEnd, Message, Metadata
     from mcap.stream_reader import StreamReader
+
     before_ns = time.time_ns()
     path = tmp_path / "stand.mcap"
     record("stand", path, duration_s=0.3)
@@ -541,14 +675,20 @@ def test_shipped_recordings_with_log_times_from_zero_still_read(name):
 def test_view_shows_the_ended_flag(files, tmp_path, rerun_cli):
     rrd = tmp_path / "view.rrd"
     assert cli("view", files.stand, "--save", rrd).code == 0
-    text = subprocess.run([rerun_cli, "rrd", "print", str(rrd)], check=True,
-                          capture_output=True, text=True, timeout=120,
-                          env={"RERUN_ANALYTICS": "off", "PATH": "/usr/bin:/bin"}).stdout
+    text = subprocess.run(
+        [rerun_cli, "rrd", "print", str(rrd)],
+        check=True,
+        capture_output=True,
+        text=True,
+        timeout=120,
+        env={"RERUN_ANALYTICS": "off", "PATH": "/usr/bin:/bin"},
+    ).stdout
     assert "/motion/ended" in text
 
 
 def test_onnx_inputs_and_outputs_have_doc_strings(files, tmp_path):
     import onnx
+
     out = tmp_path / "kick.onnx"
     assert cli("export", files.model, "-o", out).code == 0
     graph = onnx.load(str(out)).graph

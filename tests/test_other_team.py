@@ -44,9 +44,16 @@ def test_ik_matches_mujoco_foot_pose_and_round_trips(world, side, name):
     m, d = world.model, world.data
     torso, foot = m.body("torso").id, m.body(f"{name}_foot").id
     for _ in range(20):
-        q = np.array([rng.uniform(-0.6, 0.0), side * rng.uniform(-0.2, 0.3),
-                      rng.uniform(-0.2, 1.0), rng.uniform(-1.6, -0.1), rng.uniform(-0.5, 0.8),
-                      side * rng.uniform(-0.2, 0.3)])
+        q = np.array(
+            [
+                rng.uniform(-0.6, 0.0),
+                side * rng.uniform(-0.2, 0.3),
+                rng.uniform(-0.2, 1.0),
+                rng.uniform(-1.6, -0.1),
+                rng.uniform(-0.5, 0.8),
+                side * rng.uniform(-0.2, 0.3),
+            ]
+        )
         angles = np.zeros(NUM_JOINTS)
         angles[idx] = q
         world.place_robot(0.0, 0.0, 0.3, angles)
@@ -74,7 +81,7 @@ def test_walk_covers_4_m_fast_without_falling(walk_result):
 def test_walk_is_periodic_at_steady_state(walk_result):
     period_cycles = round(make_walk().period_s / CYCLE_S)
     a = walk_result.angles_rad
-    last = a[-2 * period_cycles:]
+    last = a[-2 * period_cycles :]
     first, second = last[:period_cycles], last[period_cycles:]
     diff = np.abs(first - second).mean()
     swing = np.abs(first - first.mean(0)).mean()

@@ -4,6 +4,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from _learn_helpers import PAPER_DATA as PAPER  # noqa: E402
 
 from mimic.errors import RecordingError
 from mimic.recording import layout as L
@@ -16,8 +17,6 @@ from mimic.recording.paper_import import (
 )
 from mimic.recording.reader import read_joint_table, read_recording
 from mimic.robot.registry import get_robot
-
-from _learn_helpers import PAPER_DATA as PAPER  # noqa: E402
 
 NAO = get_robot("nao")  # the study's files are NAO data
 JOINT_NAMES = NAO.joint_names
@@ -40,11 +39,19 @@ def test_every_joint_has_exactly_one_paper_name():
 
 def test_their_stand_becomes_ours():
     """Their stand (shoulder +90, hip -30, knee +60, ankle -30 deg) is ours negated."""
-    theirs = {"left_shoulder_pitch": 90, "left_hip_pitch": -30, "left_knee_pitch": 60,
-              "left_ankle_pitch": -30}
+    theirs = {
+        "left_shoulder_pitch": 90,
+        "left_hip_pitch": -30,
+        "left_knee_pitch": 60,
+        "left_ankle_pitch": -30,
+    }
     ours = {k: PAPER_SIGNS[k] * v for k, v in theirs.items()}
-    assert ours == {"left_shoulder_pitch": -90, "left_hip_pitch": 30, "left_knee_pitch": -60,
-                    "left_ankle_pitch": 30}
+    assert ours == {
+        "left_shoulder_pitch": -90,
+        "left_hip_pitch": 30,
+        "left_knee_pitch": -60,
+        "left_ankle_pitch": 30,
+    }
 
 
 def test_kick_fits_our_joint_stops_and_mirror_table():
@@ -56,9 +63,16 @@ def test_kick_fits_our_joint_stops_and_mirror_table():
     outside = (q < NAO.lower_limits_rad - tol) | (q > NAO.upper_limits_rad + tol)
     # only the kick's knee/hip/ankle targets beyond the stops (the README's 186 deg knee)
     cols = {JOINT_NAMES[i] for i in np.nonzero(outside.any(axis=0))[0]}
-    assert cols <= {"left_hip_pitch", "left_knee_pitch", "left_ankle_pitch",
-                    "left_shoulder_pitch", "right_shoulder_pitch", "right_hip_pitch",
-                    "right_ankle_pitch", "right_hip_yaw_pitch"}
+    assert cols <= {
+        "left_hip_pitch",
+        "left_knee_pitch",
+        "left_ankle_pitch",
+        "left_shoulder_pitch",
+        "right_shoulder_pitch",
+        "right_hip_pitch",
+        "right_ankle_pitch",
+        "right_hip_yaw_pitch",
+    }
     signs = np.array([PAPER_SIGNS[n] for n in JOINT_NAMES])
     unsigned = q * signs  # their raw values, taken with our signs ignored
     outside_raw = (unsigned < NAO.lower_limits_rad - tol) | (unsigned > NAO.upper_limits_rad + tol)

@@ -33,10 +33,14 @@ def test_quick_start_commands_are_read_from_the_readme():
     commands = new_user.quickstart_commands((REPO / "README.md").read_text())
     assert commands[0] == "mimic --help" and len(commands) >= 10
     assert all(c.startswith(("mimic ", "rerun ")) for c in commands)
-    assert new_user.shortened("mimic trial kick a b --minutes 30 -o x", 0.1) == \
-        "mimic trial kick a b -o x --minutes 0.1 --workers 1"
-    assert new_user.shortened("rerun out/k.mcap", 0.1) == \
-        "rerun mcap convert out/k.mcap -o out/k_rerun.rrd"
+    assert (
+        new_user.shortened("mimic trial kick a b --minutes 30 -o x", 0.1)
+        == "mimic trial kick a b -o x --minutes 0.1 --workers 1"
+    )
+    assert (
+        new_user.shortened("rerun out/k.mcap", 0.1)
+        == "rerun mcap convert out/k.mcap -o out/k_rerun.rrd"
+    )
 
 
 #: Options that name a file a command writes; every other path or model variant is an input.
@@ -46,6 +50,7 @@ _OUTPUTS = {"out", "onnx", "save", "save_old"}
 def _parse(group, words: list[str]):
     """(command name, parsed parameters) of ``mimic WORDS``, through click's own parser:
     an unknown option or a bad value raises ``click.UsageError``."""
+
     def rest(c) -> list[str]:  # what a group leaves for its subcommand
         return [*getattr(c, "_protected_args", getattr(c, "protected_args", [])), *c.args]
 
@@ -66,6 +71,7 @@ def test_quick_start_uses_only_options_that_exist_and_files_made_before():
 
     from mimic.cli.main import app
     from mimic.pipeline import paper_outputs
+
     new_user = _new_user()
     made = set(new_user.tracked_files(REPO))
     group = get_command(app)
@@ -86,8 +92,9 @@ def test_quick_start_uses_only_options_that_exist_and_files_made_before():
                 if key in _OUTPUTS and v is not None:
                     made.add(Path(v).as_posix())
                 elif isinstance(v, Path) or text.endswith((".mimic", ".mcap")):
-                    assert Path(text).as_posix() in made, \
+                    assert Path(text).as_posix() in made, (
                         f"{command}: {text} is made by no earlier command"
+                    )
 
 
 @pytest.mark.slow
@@ -106,9 +113,15 @@ def test_readme_quick_start_runs_in_order_on_a_fresh_copy(tmp_path):
     assert len(results) == len(commands)
     assert all("Traceback" not in out for _, _, out in results)
     # What the quick start says it makes is there; the shipped recordings are untouched.
-    for made in ("out/kick_right.mcap", "out/kick.rrd", "models/kick_right.mimic",
-                 "out/kick_right.onnx", "out/kick.parquet", "models/other_team_walk.mimic",
-                 "out/paper/walk_trial.parquet"):
+    for made in (
+        "out/kick_right.mcap",
+        "out/kick.rrd",
+        "models/kick_right.mimic",
+        "out/kick_right.onnx",
+        "out/kick.parquet",
+        "models/other_team_walk.mimic",
+        "out/paper/walk_trial.parquet",
+    ):
         assert (clone / made).is_file(), made
     assert {p.name: p.read_bytes() for p in (clone / "recordings").glob("*.mcap")} == shipped
     assert not list(clone.rglob("*.partial-*"))

@@ -113,9 +113,14 @@ def test_simulator_names_in_any_order_are_accepted(tmp_path):
     assert table["ended"].to_list() == [0, 0, 0, 0, 1]  # no /ended topic: last row ends
 
 
-@pytest.mark.parametrize("case, expected", [
-    ("nan", "NaN"), ("backwards", "backwards"), ("names", "wrong joint names"),
-])
+@pytest.mark.parametrize(
+    "case, expected",
+    [
+        ("nan", "NaN"),
+        ("backwards", "backwards"),
+        ("names", "wrong joint names"),
+    ],
+)
 def test_bad_joint_data_gives_one_clear_error(tmp_path, case, expected):
     values = np.zeros((4, 22))
     times = [0, 20_000_000, 40_000_000, 60_000_000]
@@ -141,7 +146,9 @@ def test_not_mcap_and_missing_topic_are_explained(tmp_path):
     path = tmp_path / "only_tf.mcap"
     with RecordingWriter(path, L.RecordingInfo(motion="x", agent="test")) as w:
         w.write_ended(0, False)
-    with pytest.raises(RecordingError, match=r"no joint topic /joint_states; topics present: /ended"):
+    with pytest.raises(
+        RecordingError, match=r"no joint topic /joint_states; topics present: /ended"
+    ):
         read_joint_table(path)
 
 
@@ -173,10 +180,21 @@ def test_rerun_imports_joint_plots_and_the_robot(stand_file, tmp_path, rerun_cli
     rrd = tmp_path / "stand.rrd"
     env = {"RERUN_ANALYTICS": "off", "PATH": "/usr/bin:/bin"}
     # `rerun mcap convert` runs the same importer as `rerun FILE.mcap --save`, without a server
-    subprocess.run([rerun, "mcap", "convert", str(stand_file), "-o", str(rrd)], check=True,
-                   capture_output=True, env=env, timeout=120)
-    printed = subprocess.run([rerun, "rrd", "print", str(rrd)], check=True,
-                             capture_output=True, text=True, env=env, timeout=120).stdout
+    subprocess.run(
+        [rerun, "mcap", "convert", str(stand_file), "-o", str(rrd)],
+        check=True,
+        capture_output=True,
+        env=env,
+        timeout=120,
+    )
+    printed = subprocess.run(
+        [rerun, "rrd", "print", str(rrd)],
+        check=True,
+        capture_output=True,
+        text=True,
+        env=env,
+        timeout=120,
+    ).stdout
     assert "/joint_states/position - data columns: [Scalars:scalars" in printed
     assert "/joint_references/position" in printed
     assert "Transform3D:child_frame" in printed  # /tf became transforms
@@ -193,16 +211,32 @@ def test_fast_cdr_matches_the_generic_ros2_encoder():
     t = 3_020_000_001
     stamp = {"sec": 3, "nanosec": 20_000_001}
     js = serialize_dynamic("sensor_msgs/msg/JointState", L.SCHEMAS["sensor_msgs/msg/JointState"])
-    expected = js["sensor_msgs/msg/JointState"]({
-        "header": {"stamp": stamp, "frame_id": ""}, "name": list(JOINT_NAMES),
-        "position": pos.tolist(), "velocity": vel.tolist(), "effort": []})
+    expected = js["sensor_msgs/msg/JointState"](
+        {
+            "header": {"stamp": stamp, "frame_id": ""},
+            "name": list(JOINT_NAMES),
+            "position": pos.tolist(),
+            "velocity": vel.tolist(),
+            "effort": [],
+        }
+    )
     assert cdr.encode_joint_state(t, JOINT_NAMES, pos, vel) == expected
     parents, children = ["world", "torso", "neck"], ["torso", "neck", "h"]
     p, q = rng.normal(size=(3, 3)), rng.normal(size=(3, 4))
     tf = serialize_dynamic("tf2_msgs/msg/TFMessage", L.SCHEMAS["tf2_msgs/msg/TFMessage"])
-    expected = tf["tf2_msgs/msg/TFMessage"]({"transforms": [
-        {"header": {"stamp": stamp, "frame_id": a}, "child_frame_id": b,
-         "transform": {"translation": dict(zip("xyz", pp.tolist())),
-                       "rotation": dict(zip("wxyz", qq.tolist()))}}
-        for a, b, pp, qq in zip(parents, children, p, q)]})
+    expected = tf["tf2_msgs/msg/TFMessage"](
+        {
+            "transforms": [
+                {
+                    "header": {"stamp": stamp, "frame_id": a},
+                    "child_frame_id": b,
+                    "transform": {
+                        "translation": dict(zip("xyz", pp.tolist())),
+                        "rotation": dict(zip("wxyz", qq.tolist())),
+                    },
+                }
+                for a, b, pp, qq in zip(parents, children, p, q)
+            ]
+        }
+    )
     assert cdr.encode_tf(t, parents, children, p, q) == expected

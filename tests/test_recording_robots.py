@@ -31,8 +31,13 @@ def test_info_defaults_come_from_the_robot_and_the_world():
 
 
 def test_old_metadata_names_the_nao_robot_model():
-    old = {"motion": "kick", "agent": "KeyframePlayer", "robot_model": "nao_type0",
-           "control_rate_hz": "50.0", "cycle_s": "0.02"}
+    old = {
+        "motion": "kick",
+        "agent": "KeyframePlayer",
+        "robot_model": "nao_type0",
+        "control_rate_hz": "50.0",
+        "cycle_s": "0.02",
+    }
     info = L.RecordingInfo.from_metadata(old)
     assert info.robot == "nao" and info.joint_order == get_robot("nao").joint_names
 
@@ -62,8 +67,12 @@ def test_league_robot_recording_reads_in_its_own_order(tmp_path):
     rows = rng.normal(size=(4, t1.num_joints))
     order = rng.permutation(t1.num_joints)  # any order on the wire
     path = tmp_path / "t1.mcap"
-    _write(path, L.RecordingInfo(motion="wave", agent="test", robot="t1", world="league"),
-           rows[:, order], names=[t1.joint_names[i] for i in order])
+    _write(
+        path,
+        L.RecordingInfo(motion="wave", agent="test", robot="t1", world="league"),
+        rows[:, order],
+        names=[t1.joint_names[i] for i in order],
+    )
     table = read_joint_table(path)
     assert table.columns == [L.TIME_COLUMN, *t1.joint_names, L.ENDED_COLUMN]
     np.testing.assert_allclose(table.select(t1.joint_names).to_numpy(), rows)

@@ -44,8 +44,10 @@ def test_thirteen_body_kinds():
 
 def _body_positions(world, angles):
     world.place_robot(0.0, 0.0, 0.0, angles)
-    return {world.model.body(i).name: world.data.xpos[i] - world.torso_pos_m()
-            for i in range(world.torso_body_id, world.model.nbody)}
+    return {
+        world.model.body(i).name: world.data.xpos[i] - world.torso_pos_m()
+        for i in range(world.torso_body_id, world.model.nbody)
+    }
 
 
 def test_mirrored_command_gives_mirrored_pose(world):
@@ -62,10 +64,14 @@ def test_mirrored_command_gives_mirrored_pose(world):
         assert mirrored[twin] == pytest.approx(pos * [1, -1, 1], abs=1e-9), name
 
 
-@pytest.mark.parametrize("joint, expect", [
-    ("left_hip_pitch", "foot forward"), ("left_knee_pitch", "foot back"),
-    ("left_shoulder_pitch", "hand down"),
-])
+@pytest.mark.parametrize(
+    "joint, expect",
+    [
+        ("left_hip_pitch", "foot forward"),
+        ("left_knee_pitch", "foot back"),
+        ("left_shoulder_pitch", "hand down"),
+    ],
+)
 def test_sign_conventions(world, joint, expect):
     angles = np.zeros(J.NUM_JOINTS)
     angles[J.joint_index(joint)] = -0.5 if joint != "left_hip_pitch" else 0.5

@@ -77,9 +77,11 @@ def test_mimic_robots_table_fits_80_columns():
 
 
 def test_league_robot_without_rcsssmj_is_one_line_saying_what_to_install():
-    code = ("import sys; sys.modules['rcsssmj'] = None\n"  # as if it were not installed
-            "from mimic.robot.registry import get_robot\n"
-            "get_robot('t1')\n")
+    code = (
+        "import sys; sys.modules['rcsssmj'] = None\n"  # as if it were not installed
+        "from mimic.robot.registry import get_robot\n"
+        "get_robot('t1')\n"
+    )
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
     assert done.returncode != 0
     assert "MimicError" in done.stderr and "pip install rcsssmj" in done.stderr
@@ -99,7 +101,8 @@ def test_league_joints_links_and_limits_are_the_mjcfs(name):
     assert robot.links[0].parent is None and robot.root_link == "torso"
     assert robot.mass_kg == pytest.approx(m.body_mass.sum())
     assert robot.actuator.max_torque_nm == pytest.approx(
-        [m.jnt_actfrcrange[m.joint(n).id, 1] for n in robot.joint_names])
+        [m.jnt_actfrcrange[m.joint(n).id, 1] for n in robot.joint_names]
+    )
     assert robot.foot_links == ("left_foot_link", "right_foot_link")
     assert robot.imu_site == "torso" and robot.world == "league"
     groups = {j.group for j in robot.joints}
@@ -129,8 +132,9 @@ def test_mirroring_twice_is_the_identity_and_the_stand_pose_is_symmetric(name):
         other = robot.joints[robot.joint_index(j.mirror)]
         assert other.mirror == j.name and other.mirror_sign == j.mirror_sign
         # The mirror joint's stops, mirrored, are this joint's stops.
-        assert sorted([other.lower_rad * j.mirror_sign, other.upper_rad * j.mirror_sign]) \
-            == pytest.approx([j.lower_rad, j.upper_rad])
+        assert sorted(
+            [other.lower_rad * j.mirror_sign, other.upper_rad * j.mirror_sign]
+        ) == pytest.approx([j.lower_rad, j.upper_rad])
         if j.group.startswith("left_"):
             assert other.group == "right_" + j.group.removeprefix("left_")
 
@@ -140,8 +144,13 @@ def test_roll_and_yaw_joints_flip_sign_in_the_mirror_pitch_joints_keep_it(name):
     robot = get_robot(name)
     for j in robot.joints:
         kind = j.name.lower()
-        expected = +1 if "pitch" in kind else -1 if ("roll" in kind or "yaw" in kind
-                                                     or kind == "waist") else None
+        expected = (
+            +1
+            if "pitch" in kind
+            else -1
+            if ("roll" in kind or "yaw" in kind or kind == "waist")
+            else None
+        )
         assert j.mirror_sign == expected, j.name
         swapped = j.name.replace("Left", "@").replace("Right", "Left").replace("@", "Right")
         assert j.mirror == swapped
@@ -171,8 +180,11 @@ def test_attached_model_has_one_pd_position_actuator_per_joint_and_our_sensors(n
     for i, name_ in enumerate(robot.joint_names):
         act = m.actuator(name_)
         assert act.trnid[0] == m.joint(name_).id
-        kp, kd, limit = (robot.actuator.kp_nm_rad[i], robot.actuator.kd_nm_s_rad[i],
-                         robot.actuator.max_torque_nm[i])
+        kp, kd, limit = (
+            robot.actuator.kp_nm_rad[i],
+            robot.actuator.kd_nm_s_rad[i],
+            robot.actuator.max_torque_nm[i],
+        )
         assert act.gainprm[0] == kp and tuple(act.biasprm[:3]) == (0, -kp, -kd)
         assert tuple(act.forcerange) == (-limit, limit)
     for sensor in ("gyro", "accelerometer", "torso_quat", "left_sole_touch", "right_sole_touch"):
@@ -220,7 +232,7 @@ def test_robot_touches_the_ball_and_the_ground():
     radius = world.field.ball_radius_m
     d.qpos[m.jnt_qposadr[m.joint("ball").id] + 2] = z + foot.size[2] + radius - 0.002
     mujoco.mj_forward(m, d)
-    pairs = {frozenset((m.geom(c.geom1).name, m.geom(c.geom2).name)) for c in d.contact[:d.ncon]}
+    pairs = {frozenset((m.geom(c.geom1).name, m.geom(c.geom2).name)) for c in d.contact[: d.ncon]}
     assert frozenset(("ball", "left_foot")) in pairs
     for sole in ("left_foot", "right_foot"):
         assert frozenset(("ground", sole)) in pairs
@@ -292,8 +304,13 @@ def test_rerun_reads_the_t1_urdf(tmp_path, rerun_cli):
     rec.log_file_from_path(urdf)
     rec.flush()
     del rec
-    printed = subprocess.run([rerun_cli, "rrd", "print", str(rrd)], check=True,
-                             capture_output=True, text=True, timeout=120,
-                             env={"RERUN_ANALYTICS": "off", "PATH": "/usr/bin:/bin"}).stdout
+    printed = subprocess.run(
+        [rerun_cli, "rrd", "print", str(rrd)],
+        check=True,
+        capture_output=True,
+        text=True,
+        timeout=120,
+        env={"RERUN_ANALYTICS": "off", "PATH": "/usr/bin:/bin"},
+    ).stdout
     for link in ("torso", "left_foot_link", "Shank_Right", "left_hand_link"):
         assert f"/visual_geometries/{link}/" in printed

@@ -23,17 +23,35 @@ from mimic.trials.api import kick_trial, walk_trial
 from mimic.trials.parallel import derive_seed
 from mimic.viz.trials import save_trial_dashboard
 
-KICK_COLUMNS = {"variant", "attempts", "successful", "accuracy_pct", "mean_distance_m",
-                "std_distance_m", "goals", "falls", "getups", "stuck"}
-WALK_COLUMNS = {"variant", "runs", "mean_speed_m_s", "std_speed_m_s", "mean_y_error_m",
-                "std_y_error_m", "falls"}
+KICK_COLUMNS = {
+    "variant",
+    "attempts",
+    "successful",
+    "accuracy_pct",
+    "mean_distance_m",
+    "std_distance_m",
+    "goals",
+    "falls",
+    "getups",
+    "stuck",
+}
+WALK_COLUMNS = {
+    "variant",
+    "runs",
+    "mean_speed_m_s",
+    "std_speed_m_s",
+    "mean_y_error_m",
+    "std_y_error_m",
+    "falls",
+}
 
 
 @pytest.fixture(scope="module")
 def kick_result(tmp_path_factory):
     out = tmp_path_factory.mktemp("trial") / "kick.parquet"
-    return kick_trial([AgentSpec("motion", "kick_right")], minutes=2.0, seed=7, workers=2,
-                      out=out, trace=True)
+    return kick_trial(
+        [AgentSpec("motion", "kick_right")], minutes=2.0, seed=7, workers=2, out=out, trace=True
+    )
 
 
 def test_two_minute_kick_trial_counts_kicks_and_distances(kick_result):
@@ -60,8 +78,7 @@ def test_kick_trial_files_carry_configuration(kick_result):
 
 def test_same_seed_same_table_whatever_the_workers(kick_result, tmp_path):
     out = tmp_path / "again.parquet"
-    again = kick_trial([AgentSpec("motion", "kick_right")], minutes=2.0, seed=7, workers=1,
-                       out=out)
+    again = kick_trial([AgentSpec("motion", "kick_right")], minutes=2.0, seed=7, workers=1, out=out)
     assert again.rows.drop("variant").equals(kick_result.rows.drop("variant"))
     # Byte for byte: the rows file of a 2-worker run and of a 1-worker run.
     assert out.read_bytes() == kick_result.files[0].read_bytes()
@@ -69,6 +86,7 @@ def test_same_seed_same_table_whatever_the_workers(kick_result, tmp_path):
 
 def test_printed_table_keeps_every_number_whole_in_80_columns(kick_result):
     from mimic.cli import trial as cli_trial
+
     console = cli_trial.console
     width = console.width
     console.width = 80
@@ -88,6 +106,7 @@ def test_printed_table_keeps_every_number_whole_in_80_columns(kick_result):
 
 def test_kick_rows_flags_are_booleans_and_the_table_has_intervals(kick_result):
     from mimic.trials.stats import mean_interval, wilson_interval
+
     rows = kick_result.rows
     for flag in ("goal", "ball_out", "success", "fell"):
         assert rows[flag].dtype == pl.Boolean, flag
@@ -106,14 +125,16 @@ def test_kick_rows_flags_are_booleans_and_the_table_has_intervals(kick_result):
 
 def test_printed_table_shows_intervals_and_explains_stuck(kick_result):
     from mimic.cli import trial as cli_trial
+
     with cli_trial.console.capture() as captured:
         cli_trial._print(kick_result, "kick trial")
     text = captured.get()
     row = kick_result.summary.row(0, named=True)
     assert f"{row['accuracy_pct_ci_low']:.0f}-{row['accuracy_pct_ci_high']:.0f}" in text
     assert "95% CI" in text and "Wilson" in text
-    assert "stuck: episodes that ended because the robot could not reach the ball" in \
-        " ".join(text.split())
+    assert "stuck: episodes that ended because the robot could not reach the ball" in " ".join(
+        text.split()
+    )
 
 
 def test_dashboard_replays_the_first_episode_in_3d(kick_result, tmp_path, rerun_cli):
@@ -125,8 +146,13 @@ def test_dashboard_replays_the_first_episode_in_3d(kick_result, tmp_path, rerun_
     assert torso[0, 2] > 0.3, "the episode starts with the robot standing"
     rrd = tmp_path / "kick.rrd"
     save_trial_dashboard(kick_result, rrd)
-    text = subprocess.run([rerun_cli, "rrd", "print", str(rrd)], check=True, capture_output=True,
-                          text=True, timeout=120).stdout
+    text = subprocess.run(
+        [rerun_cli, "rrd", "print", str(rrd)],
+        check=True,
+        capture_output=True,
+        text=True,
+        timeout=120,
+    ).stdout
     assert "/world/replay/kick_right/robot/torso - data columns: [Transform3D" in text
     assert "/world/replay/kick_right/ball - data columns: [Transform3D" in text
     assert "/world/replay/kick_right/robot/left_foot/shape" in text
@@ -152,7 +178,9 @@ def test_three_run_walk_trial_measures_speed_and_drift():
     assert result.summary["falls"][0] == runs["falls"].sum()
     row = result.summary.row(0, named=True)
     assert row["mean_speed_m_s_ci_low"] <= row["mean_speed_m_s"] <= row["mean_speed_m_s_ci_high"]
-    assert 0.0 <= row["fall_rate_pct_ci_low"] <= row["fall_rate_pct"] <= row["fall_rate_pct_ci_high"]
+    assert (
+        0.0 <= row["fall_rate_pct_ci_low"] <= row["fall_rate_pct"] <= row["fall_rate_pct_ci_high"]
+    )
 
 
 def test_unknown_variant_is_one_clear_line():
@@ -166,8 +194,9 @@ def test_unknown_variant_is_one_clear_line():
 def test_balance_suffix_wraps_one_model_in_the_balance_layer(tmp_path):
     refs = np.tile(nao().stand_pose(), (10, 1))
     ds = dataset_from_frame(joint_frame(np.arange(10) * 0.02, refs), metadata={"motion": "kick"})
-    model = save_model(train_model(ds, TrainConfig(FAST, seed=0, epochs=20)),
-                       tmp_path / "kick.mimic")
+    model = save_model(
+        train_model(ds, TrainConfig(FAST, seed=0, epochs=20)), tmp_path / "kick.mimic"
+    )
     wrapped, plain = parse_agent_spec(f"{model}+balance"), parse_agent_spec(str(model))
     assert (wrapped.kind, wrapped.ref, wrapped.balance) == ("model", str(model), True)
     assert not plain.balance and wrapped.label == "kick (learned) + balance"

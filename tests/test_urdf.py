@@ -65,5 +65,7 @@ def test_forward_kinematics_agrees_with_mujoco():
     r_torso = d.xmat[world.torso_body_id].reshape(3, 3)
     fk = _urdf_fk({j.name: a for j, a in zip(JOINTS, angles)})
     for body in BODIES:
-        in_torso = r_torso.T @ (d.xpos[world.model.body(body.name).id] - d.xpos[world.torso_body_id])
+        in_torso = r_torso.T @ (
+            d.xpos[world.model.body(body.name).id] - d.xpos[world.torso_body_id]
+        )
         np.testing.assert_allclose(fk[body.name], in_torso, atol=1e-6, err_msg=body.name)

@@ -16,9 +16,14 @@ from mimic.viz.scene import log_robot_geometry
 
 
 def rrd_text(rerun: str, path: Path) -> str:
-    return subprocess.run([rerun, "rrd", "print", str(path)], check=True, capture_output=True,
-                          text=True, env={"RERUN_ANALYTICS": "off", "PATH": "/usr/bin:/bin"},
-                          timeout=120).stdout
+    return subprocess.run(
+        [rerun, "rrd", "print", str(path)],
+        check=True,
+        capture_output=True,
+        text=True,
+        env={"RERUN_ANALYTICS": "off", "PATH": "/usr/bin:/bin"},
+        timeout=120,
+    ).stdout
 
 
 @pytest.fixture(scope="module")
@@ -33,8 +38,11 @@ def test_view_has_robot_field_and_grouped_curves(stand_recording, tmp_path, reru
     logged = view_recording(stand_recording, save=rrd)
     assert logged["series"] == ["reached", "reference"] and logged["robot"] == "nao"
     text = rrd_text(rerun_cli, rrd)
-    for group, joint in (("head", "head_yaw"), ("arms", "left_elbow_roll"),
-                         ("legs", "right_knee_pitch")):
+    for group, joint in (
+        ("head", "head_yaw"),
+        ("arms", "left_elbow_roll"),
+        ("legs", "right_knee_pitch"),
+    ):
         assert f"/joints/{group}/{joint}/reached" in text
         assert f"/joints/{group}/{joint}/reference" in text
     assert "/world/robot/left_foot - data columns: [Transform3D" in text
@@ -60,8 +68,10 @@ def test_view_with_a_model_shows_compensated_and_replayed_curves(tmp_path, rerun
     source = tmp_path / "kick.mcap"
     record("kick_right", source, config=RecordConfig(tf_every=5))
     model = tmp_path / "kick.mimic"
-    save_model(train_model(training_dataset(source, "/joint_states"),
-                           TrainConfig(FAST, epochs=3000)), model)
+    save_model(
+        train_model(training_dataset(source, "/joint_states"), TrainConfig(FAST, epochs=3000)),
+        model,
+    )
     rrd = tmp_path / "view.rrd"
     logged = view_recording(source, model=model, save=rrd)
     assert logged["series"] == ["reached", "reference", "learned", "compensated", "replayed"]

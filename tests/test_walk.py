@@ -70,8 +70,12 @@ def test_walks_5_m_at_walking_speed(world: World) -> None:
 def test_walks_15_m_from_jittered_starts(world: World, seed: int) -> None:
     rng = np.random.default_rng(seed)
     world.reset()
-    world.place_robot(-15.0 + rng.uniform(-0.01, 0.01), rng.uniform(-0.01, 0.01),
-               math.radians(rng.uniform(-2, 2)), nao().stand_pose() + rng.normal(0, 0.01, 22))
+    world.place_robot(
+        -15.0 + rng.uniform(-0.01, 0.01),
+        rng.uniform(-0.01, 0.01),
+        math.radians(rng.uniform(-2, 2)),
+        nao().stand_pose() + rng.normal(0, 0.01, 22),
+    )
     agent = make_walk_agent()
     agent.reset(world.observe())
     (x0, y0, _), yaw0 = world.torso_pos_m(), world.torso_yaw_rad()

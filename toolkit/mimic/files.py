@@ -19,14 +19,21 @@ from __future__ import annotations
 
 import os
 import tempfile
+from collections.abc import Iterable, Iterator
 from contextlib import contextmanager
 from pathlib import Path
-from typing import Iterable, Iterator
 
 from mimic.errors import MimicError
 
-__all__ = ["OutputError", "input_file", "check_output", "check_outputs", "PendingOutput",
-           "atomic_output", "PARTIAL_MARK"]
+__all__ = [
+    "OutputError",
+    "input_file",
+    "check_output",
+    "check_outputs",
+    "PendingOutput",
+    "atomic_output",
+    "PARTIAL_MARK",
+]
 
 #: Part of the name of every temporary output file (``kick.partial-1a2b3c.mcap``).
 PARTIAL_MARK = ".partial-"
@@ -74,8 +81,7 @@ def check_output(path: str | Path, *, force: bool = False, flag: str = "--force"
     while not existing.exists():
         existing = existing.parent
     if not existing.is_dir():
-        raise OutputError(f"{path}: cannot create the folder {path.parent} ({existing} is a "
-                          "file)")
+        raise OutputError(f"{path}: cannot create the folder {path.parent} ({existing} is a file)")
     if not os.access(existing, os.W_OK | os.X_OK):
         raise OutputError(f"{path}: cannot write in {existing} (permission denied)")
     return path
@@ -98,8 +104,9 @@ def _make_parent(path: Path) -> None:
     try:
         path.parent.mkdir(parents=True, exist_ok=True)
     except OSError as err:
-        raise OutputError(f"{path}: cannot create the folder {path.parent} "
-                          f"({err.strerror or err})") from None
+        raise OutputError(
+            f"{path}: cannot create the folder {path.parent} ({err.strerror or err})"
+        ) from None
 
 
 class PendingOutput:
@@ -120,11 +127,13 @@ class PendingOutput:
             raise OutputError(f"{self.path}: is a directory; give a file name for the output")
         _make_parent(self.path)
         try:
-            fd, tmp = tempfile.mkstemp(dir=self.path.parent, suffix=self.path.suffix,
-                                       prefix=self.path.stem + PARTIAL_MARK)
+            fd, tmp = tempfile.mkstemp(
+                dir=self.path.parent, suffix=self.path.suffix, prefix=self.path.stem + PARTIAL_MARK
+            )
         except OSError as err:
-            raise OutputError(f"{self.path}: cannot write in {self.path.parent} "
-                              f"({err.strerror or err})") from None
+            raise OutputError(
+                f"{self.path}: cannot write in {self.path.parent} ({err.strerror or err})"
+            ) from None
         os.close(fd)
         self.tmp = Path(tmp)
         self.done = False
@@ -139,12 +148,16 @@ class PendingOutput:
             try:
                 os.link(self.tmp, self.path)  # fails if the name exists: never replaces
             except FileExistsError:
-                raise OutputError(f"{self.path} appeared while this command ran; kept the new "
-                                  f"file as {self.tmp}; pass --force to replace") from None
+                raise OutputError(
+                    f"{self.path} appeared while this command ran; kept the new "
+                    f"file as {self.tmp}; pass --force to replace"
+                ) from None
             except OSError:  # no hard links here: check, then move
                 if self.path.exists():
-                    raise OutputError(f"{self.path} appeared while this command ran; kept the "
-                                      f"new file as {self.tmp}; pass --force to replace") from None
+                    raise OutputError(
+                        f"{self.path} appeared while this command ran; kept the "
+                        f"new file as {self.tmp}; pass --force to replace"
+                    ) from None
                 os.replace(self.tmp, self.path)
             else:
                 os.unlink(self.tmp)

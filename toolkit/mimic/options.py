@@ -17,8 +17,14 @@ class OptionError(MimicError):
     """An option value out of its range (NaN, infinite, negative, zero where it may not be)."""
 
 
-def finite(value: float | None, flag: str, *, above: float | None = None,
-           at_least: float | None = None, at_most: float | None = None) -> float | None:
+def finite(
+    value: float | None,
+    flag: str,
+    *,
+    above: float | None = None,
+    at_least: float | None = None,
+    at_most: float | None = None,
+) -> float | None:
     """``value`` if it is a finite number in range (None passes through).
 
     Args:
@@ -30,17 +36,22 @@ def finite(value: float | None, flag: str, *, above: float | None = None,
     """
     if value is None:
         return None
-    parts = ([f"> {above:g}"] if above is not None else []) + \
-            ([f">= {at_least:g}"] if at_least is not None else []) + \
-            ([f"<= {at_most:g}"] if at_most is not None else [])
+    parts = (
+        ([f"> {above:g}"] if above is not None else [])
+        + ([f">= {at_least:g}"] if at_least is not None else [])
+        + ([f"<= {at_most:g}"] if at_most is not None else [])
+    )
     want = "a finite number" + (f" {' and '.join(parts)}" if parts else "")
     try:
         v = float(value)
     except (TypeError, ValueError):
         raise OptionError(f"{flag} must be {want}, got {value!r}") from None
-    if not math.isfinite(v) or (above is not None and not v > above) \
-            or (at_least is not None and not v >= at_least) \
-            or (at_most is not None and not v <= at_most):
+    if (
+        not math.isfinite(v)
+        or (above is not None and not v > above)
+        or (at_least is not None and not v >= at_least)
+        or (at_most is not None and not v <= at_most)
+    ):
         raise OptionError(f"{flag} must be {want}, got {value}")
     return v
 

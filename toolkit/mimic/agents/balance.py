@@ -44,8 +44,14 @@ from mimic.robot.joints import joint_index
 from mimic.robot.nao import nao
 from mimic.world.base import CYCLE_S, Observation
 
-__all__ = ["BalanceGains", "HeadingGains", "BalancedAgent", "torso_lean_rad", "torso_yaw_rad",
-           "foot_yaw_shift_rad"]
+__all__ = [
+    "BalanceGains",
+    "HeadingGains",
+    "BalancedAgent",
+    "torso_lean_rad",
+    "torso_yaw_rad",
+    "foot_yaw_shift_rad",
+]
 
 _SIN45 = math.sqrt(0.5)
 # Leg sides: +1 left, -1 right.
@@ -129,9 +135,13 @@ class BalancedAgent(Agent):
     (``reference_rad`` None) pass through unchanged.
     """
 
-    def __init__(self, inner: Agent, gains: BalanceGains = BalanceGains(),
-                 heading: HeadingGains | None = HeadingGains(),
-                 swing_feedback: bool | None = None) -> None:
+    def __init__(
+        self,
+        inner: Agent,
+        gains: BalanceGains = BalanceGains(),
+        heading: HeadingGains | None = HeadingGains(),
+        swing_feedback: bool | None = None,
+    ) -> None:
         super().__init__()
         self.inner, self.gains = inner, gains
         self.heading = heading if inner.period_s else None
@@ -140,9 +150,13 @@ class BalancedAgent(Agent):
         self.ball_offset_m = getattr(inner, "ball_offset_m", None)
         self.name, self.team, self.period_s = inner.name, inner.team, inner.period_s
         self.robot, self.robot_only = "nao", True
-        self._idx = {side: {part: joint_index(f"{name}_{part}")
-                            for part in ("hip_pitch", "hip_roll", "ankle_pitch", "ankle_roll")}
-                     for side, name in _SIDES.items()}
+        self._idx = {
+            side: {
+                part: joint_index(f"{name}_{part}")
+                for part in ("hip_pitch", "hip_roll", "ankle_pitch", "ankle_roll")
+            }
+            for side, name in _SIDES.items()
+        }
         self._knee = {side: joint_index(f"{name}_knee_pitch") for side, name in _SIDES.items()}
         self._reset_state(0.0, (0.0, 0.0))
 
@@ -162,8 +176,9 @@ class BalancedAgent(Agent):
 
     def reset(self, obs: Observation) -> None:
         self.inner.reset(obs)
-        self._reset_state(torso_yaw_rad(obs), (float(obs.torso_pos_m[0]),
-                                               float(obs.torso_pos_m[1])))
+        self._reset_state(
+            torso_yaw_rad(obs), (float(obs.torso_pos_m[0]), float(obs.torso_pos_m[1]))
+        )
         self.done = False
 
     # --- support foot ---------------------------------------------------------------------

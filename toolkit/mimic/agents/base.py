@@ -47,10 +47,14 @@ class Agent(ABC):
         if robot.name == self.robot:
             return
         if self.robot_only:
-            raise MimicError(f"{self.name} is a {self.robot.upper()}-only controller; it cannot "
-                             f"drive the {robot.name.upper()}")
-        raise MimicError(f"{self.name} was made for the {self.robot.upper()} "
-                         f"({self.robot} joints); the world's robot is the {robot.name.upper()}")
+            raise MimicError(
+                f"{self.name} is a {self.robot.upper()}-only controller; it cannot "
+                f"drive the {robot.name.upper()}"
+            )
+        raise MimicError(
+            f"{self.name} was made for the {self.robot.upper()} "
+            f"({self.robot} joints); the world's robot is the {robot.name.upper()}"
+        )
 
     @abstractmethod
     def reset(self, obs: Observation) -> None:

@@ -52,9 +52,14 @@ class NeuralPlayer(Agent):
 
     team = "mimic"
 
-    def __init__(self, model: MotionModel, speed_rate: float = 1.0, max_overrun_s: float = 1.0,
-                 stance_s: float = DEFAULT_STANCE_S,
-                 start_ramp_s: float = DEFAULT_START_RAMP_S) -> None:
+    def __init__(
+        self,
+        model: MotionModel,
+        speed_rate: float = 1.0,
+        max_overrun_s: float = 1.0,
+        stance_s: float = DEFAULT_STANCE_S,
+        start_ramp_s: float = DEFAULT_START_RAMP_S,
+    ) -> None:
         super().__init__()
         self.model = model
         self.robot = model.robot
@@ -100,7 +105,7 @@ class NeuralPlayer(Agent):
         """(N,) mean joint reference over one cycle of a cyclic model [rad]."""
         if self._mean_rad is None:
             t = np.arange(_MEAN_SAMPLES) * (self.model.period_s / _MEAN_SAMPLES)
-            self._mean_rad = self.model.predict(t)[:, :self.model.num_joints].mean(axis=0)
+            self._mean_rad = self.model.predict(t)[:, : self.model.num_joints].mean(axis=0)
         return self._mean_rad
 
     def start_weights(self, t_s: float) -> tuple[float, float]:
@@ -133,6 +138,7 @@ class NeuralPlayer(Agent):
         self.reference_rad = out[:n]
         self.ended_flag = float(out[n])
         if not self.model.cyclic:
-            self.done = (self.ended_flag > 0.5
-                         or t >= self.model.duration_s + self.max_overrun_s - 1e-9)
+            self.done = (
+                self.ended_flag > 0.5 or t >= self.model.duration_s + self.max_overrun_s - 1e-9
+            )
         return JointCommand.references(self.reference_rad)

@@ -22,15 +22,26 @@ from pathlib import Path
 from mimic.agents.base import Agent
 from mimic.errors import MimicError
 
-__all__ = ["PARAM_ENGINES", "FORMAT", "ParamsFileError", "params_to_dict", "params_from_dict",
-           "default_params", "build_engine", "save_params", "load_params"]
+__all__ = [
+    "PARAM_ENGINES",
+    "FORMAT",
+    "ParamsFileError",
+    "params_to_dict",
+    "params_from_dict",
+    "default_params",
+    "build_engine",
+    "save_params",
+    "load_params",
+]
 
 FORMAT = "mimic-agent-params"
 FORMAT_VERSION = 1
 #: Engine name -> ("module:ParamsDataclass", "module:AgentClass taking the params").
 PARAM_ENGINES: dict[str, tuple[str, str]] = {
-    "other-team-walk": ("mimic.agents.other_team.params:WalkParams",
-                        "mimic.agents.other_team.walk:OtherTeamWalk"),
+    "other-team-walk": (
+        "mimic.agents.other_team.params:WalkParams",
+        "mimic.agents.other_team.walk:OtherTeamWalk",
+    ),
 }
 
 
@@ -45,8 +56,7 @@ def _attr(target: str):
 
 def _engine(agent: str) -> tuple[type, type]:
     if agent not in PARAM_ENGINES:
-        raise ParamsFileError(f"no parameter engine {agent!r}; engines: "
-                              f"{', '.join(PARAM_ENGINES)}")
+        raise ParamsFileError(f"no parameter engine {agent!r}; engines: {', '.join(PARAM_ENGINES)}")
     params_cls, agent_cls = PARAM_ENGINES[agent]
     return _attr(params_cls), _attr(agent_cls)
 
@@ -63,8 +73,11 @@ def build_engine(agent: str, params) -> Agent:
 
 def params_to_dict(params) -> dict:
     """Fields of a (nested) parameter dataclass as JSON-able data."""
-    return {f.name: (params_to_dict(v) if dataclasses.is_dataclass(v) else v)
-            for f in dataclasses.fields(params) for v in [getattr(params, f.name)]}
+    return {
+        f.name: (params_to_dict(v) if dataclasses.is_dataclass(v) else v)
+        for f in dataclasses.fields(params)
+        for v in [getattr(params, f.name)]
+    }
 
 
 def params_from_dict(cls: type, data: dict, where: str = "params"):
@@ -80,8 +93,9 @@ def params_from_dict(cls: type, data: dict, where: str = "params"):
     values = {}
     for name, value in data.items():
         if name not in fields:
-            raise ParamsFileError(f"{where}: {cls.__name__} has no field {name!r}; fields: "
-                                  f"{', '.join(fields)}")
+            raise ParamsFileError(
+                f"{where}: {cls.__name__} has no field {name!r}; fields: {', '.join(fields)}"
+            )
         default = getattr(defaults, name)
         if dataclasses.is_dataclass(default):
             values[name] = params_from_dict(type(default), value, f"{where}.{name}")
@@ -90,8 +104,11 @@ def params_from_dict(cls: type, data: dict, where: str = "params"):
                 raise ParamsFileError(f"{where}.{name}: expected an integer, got {value!r}")
             values[name] = value
         else:
-            if not isinstance(value, (int, float)) or isinstance(value, bool) \
-                    or not math.isfinite(value):
+            if (
+                not isinstance(value, (int, float))
+                or isinstance(value, bool)
+                or not math.isfinite(value)
+            ):
                 raise ParamsFileError(f"{where}.{name}: expected a finite number, got {value!r}")
             values[name] = float(value)
     return dataclasses.replace(defaults, **values)
@@ -103,8 +120,13 @@ def save_params(agent: str, params, path: str | Path, provenance: dict | None = 
     from mimic.files import atomic_output
 
     path = Path(path)
-    doc = {"format": FORMAT, "format_version": FORMAT_VERSION, "agent": agent,
-           "params": params_to_dict(params), "provenance": provenance or {}}
+    doc = {
+        "format": FORMAT,
+        "format_version": FORMAT_VERSION,
+        "agent": agent,
+        "params": params_to_dict(params),
+        "provenance": provenance or {},
+    }
     with atomic_output(path) as tmp:
         tmp.write_text(json.dumps(doc, indent=1) + "\n")
     return path
@@ -126,8 +148,10 @@ def load_params(path: str | Path) -> tuple[str, object]:
     if not isinstance(doc, dict) or doc.get("format") != FORMAT:
         raise ParamsFileError(f"{path}: not a parameter file (no {FORMAT!r} format tag)")
     if int(doc.get("format_version", 0)) > FORMAT_VERSION:
-        raise ParamsFileError(f"{path}: parameter format {doc['format_version']} is newer than "
-                              f"this toolkit reads ({FORMAT_VERSION}); update mimic")
+        raise ParamsFileError(
+            f"{path}: parameter format {doc['format_version']} is newer than "
+            f"this toolkit reads ({FORMAT_VERSION}); update mimic"
+        )
     agent = str(doc.get("agent"))
     params_cls, _ = _engine(agent)
     return agent, params_from_dict(params_cls, doc.get("params", {}), f"{path}: params")

@@ -26,8 +26,7 @@ from mimic.agents.base import Agent
 from mimic.errors import MimicError
 from mimic.robot.registry import DEFAULT_ROBOT
 
-__all__ = ["AgentSpec", "agent_spec", "make_agent", "agent_names", "BEHAVIOURS",
-           "BALANCE_SUFFIX"]
+__all__ = ["AgentSpec", "agent_spec", "make_agent", "agent_names", "BEHAVIOURS", "BALANCE_SUFFIX"]
 
 #: Behaviour name -> "module:factory" (a callable with no arguments returning an Agent).
 BEHAVIOURS: dict[str, str] = {
@@ -45,8 +44,9 @@ def _load(target: str, what: str) -> Callable:
         module = importlib.import_module(module_name)
     except ModuleNotFoundError as err:
         if err.name and module_name.startswith(err.name):
-            raise MimicError(f"{what} is not available: module {module_name} is missing "
-                             "from this installation") from None
+            raise MimicError(
+                f"{what} is not available: module {module_name} is missing from this installation"
+            ) from None
         raise
     return getattr(module, attr)
 
@@ -83,18 +83,22 @@ class AgentSpec:
         if self.kind == "motion":
             from mimic.agents.keyframe_player import KeyframePlayer
             from mimic.motion.files import load_motion
+
             return KeyframePlayer(load_motion(self.ref, self.robot))
         if self.kind == "model":
             from mimic.agents.neural_player import NeuralPlayer
+
             agent = NeuralPlayer.from_file(self.ref)
             if self.speed_rate != 1.0:
                 agent.speed_rate = self.speed_rate
             if self.balance:
                 from mimic.agents.balance import BalancedAgent
+
                 agent = BalancedAgent(agent)
             return agent
         if self.kind == "params":
             from mimic.agents.params_file import build_engine, load_params
+
             return build_engine(*load_params(self.ref))
         return _load(BEHAVIOURS[self.ref], f"agent {self.ref!r}")()
 
@@ -102,6 +106,7 @@ class AgentSpec:
         """Everything that can be checked before a run: the model file reads, and the
         agent can drive ``robot`` (default: the spec's). Raises ``MimicError``, one line."""
         from mimic.robot.registry import get_robot
+
         self.build().check_robot(get_robot(robot or self.robot))
 
     def ball_offset_m(self) -> tuple[float, float]:
@@ -111,8 +116,10 @@ class AgentSpec:
             agent = self.build()
             offset = getattr(getattr(agent, "movement", None), "ball_offset_m", None)
         if offset is None:
-            raise MimicError(f"{self.label}: no ball offset known for this kick; a kick motion "
-                             "file needs a 'ball_offset X Y' line")
+            raise MimicError(
+                f"{self.label}: no ball offset known for this kick; a kick motion "
+                "file needs a 'ball_offset X Y' line"
+            )
         return (float(offset[0]), float(offset[1]))
 
 
@@ -124,8 +131,9 @@ def agent_names(robot: str = DEFAULT_ROBOT) -> list[str]:
     return motions + [n for n in BEHAVIOURS if n not in motions]
 
 
-def agent_spec(text: str, *, robot: str = DEFAULT_ROBOT, balance: bool = False,
-               speed_rate: float = 1.0) -> AgentSpec:
+def agent_spec(
+    text: str, *, robot: str = DEFAULT_ROBOT, balance: bool = False, speed_rate: float = 1.0
+) -> AgentSpec:
     """Read an agent spec (see the module docstring).
 
     Raises:
@@ -133,10 +141,12 @@ def agent_spec(text: str, *, robot: str = DEFAULT_ROBOT, balance: bool = False,
             a model.
     """
     if text.endswith(BALANCE_SUFFIX):
-        text, balance = text[:-len(BALANCE_SUFFIX)], True
+        text, balance = text[: -len(BALANCE_SUFFIX)], True
         if not text.endswith(".mimic"):
-            raise MimicError(f"{text + BALANCE_SUFFIX!r}: the balance layer wraps learned "
-                             "motions only; give a .mimic model, e.g. kick.mimic+balance")
+            raise MimicError(
+                f"{text + BALANCE_SUFFIX!r}: the balance layer wraps learned "
+                "motions only; give a .mimic model, e.g. kick.mimic+balance"
+            )
     if text.endswith(".mimic"):
         path = Path(text)
         if path.is_dir():
@@ -144,21 +154,26 @@ def agent_spec(text: str, *, robot: str = DEFAULT_ROBOT, balance: bool = False,
         if not path.is_file():
             raise MimicError(f"model file {text!r} not found; train one with 'mimic train'")
         from mimic.learn.model_file import load_model
+
         return AgentSpec("model", text, load_model(text).robot, balance, speed_rate)
     if text.endswith(".json"):
         from mimic.agents.params_file import load_params
+
         load_params(text)  # one clear line now for a missing or bad file
         return AgentSpec("params", text, robot, balance, speed_rate)
     from mimic.motion.files import list_motions
+
     if text in list_motions(robot) or text.endswith(".txt"):
         if text.endswith(".txt") and not Path(text).is_file():
             raise MimicError(f"motion file {text!r} not found")
         return AgentSpec("motion", text, robot, balance, speed_rate)
     if text in BEHAVIOURS:
         return AgentSpec("behaviour", text, robot, balance, speed_rate)
-    raise MimicError(f"unknown agent {text!r}; motions: {', '.join(list_motions(robot))}; "
-                     f"behaviours: {', '.join(BEHAVIOURS)}; or a .mimic model file "
-                     "(optionally +balance) or a .json parameter file")
+    raise MimicError(
+        f"unknown agent {text!r}; motions: {', '.join(list_motions(robot))}; "
+        f"behaviours: {', '.join(BEHAVIOURS)}; or a .mimic model file "
+        "(optionally +balance) or a .json parameter file"
+    )
 
 
 def make_agent(text: str, *, robot: str = DEFAULT_ROBOT) -> Agent:

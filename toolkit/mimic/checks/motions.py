@@ -38,12 +38,15 @@ class Perturbation:
     # Ball x and y [m].
     ball_m: float = 0.01
 
-
     def noise(self) -> PoseNoise:
         """The same as a scene's uniform pose noise."""
-        return PoseNoise(position_m=self.position_m, yaw_rad=math.radians(self.yaw_deg),
-                         joint_rad=math.radians(self.joint_deg), ball_m=self.ball_m,
-                         distribution="uniform")
+        return PoseNoise(
+            position_m=self.position_m,
+            yaw_rad=math.radians(self.yaw_deg),
+            joint_rad=math.radians(self.joint_deg),
+            ball_m=self.ball_m,
+            distribution="uniform",
+        )
 
 
 NO_PERTURBATION = Perturbation(0.0, 0.0, 0.0, 0.0)
@@ -82,11 +85,18 @@ class GetupOutcome:
     time_to_upright_s: float | None
 
 
-def run_kick(movement: Movement, seed: int, perturb: bool = True, *,
-             perturbation: Perturbation = Perturbation(),
-             ball_start_m: tuple[float, float] = (-8.0, 0.0),
-             settle_s: float = 0.2, after_s: float = 2.0, max_time_s: float = 12.0,
-             rest_speed_m_s: float = 0.01) -> KickOutcome:
+def run_kick(
+    movement: Movement,
+    seed: int,
+    perturb: bool = True,
+    *,
+    perturbation: Perturbation = Perturbation(),
+    ball_start_m: tuple[float, float] = (-8.0, 0.0),
+    settle_s: float = 0.2,
+    after_s: float = 2.0,
+    max_time_s: float = 12.0,
+    rest_speed_m_s: float = 0.01,
+) -> KickOutcome:
     """Stand the robot behind a ball at the motion's ``ball_offset_m``, kick, measure.
 
     The ball starts near ``ball_start_m`` (field frame [m]; far from the goals so it rolls
@@ -98,14 +108,19 @@ def run_kick(movement: Movement, seed: int, perturb: bool = True, *,
         MotionFileError: the movement has no ball offset.
     """
     if movement.ball_offset_m is None:
-        raise MotionFileError(f"motion {movement.name!r} has no 'ball_offset X_M Y_M' line; "
-                              "a kick needs one to place the ball")
+        raise MotionFileError(
+            f"motion {movement.name!r} has no 'ball_offset X_M Y_M' line; "
+            "a kick needs one to place the ball"
+        )
     p = perturbation if perturb else NO_PERTURBATION
     off_x, off_y = movement.ball_offset_m
     world = MujocoWorld(movement.robot)
-    Scene(robot_xy_m=(ball_start_m[0] - off_x, ball_start_m[1] - off_y),
-          ball_offset_m=movement.ball_offset_m, noise=p.noise(),
-          settle_s=settle_s).setup(world, np.random.default_rng(seed))
+    Scene(
+        robot_xy_m=(ball_start_m[0] - off_x, ball_start_m[1] - off_y),
+        ball_offset_m=movement.ball_offset_m,
+        noise=p.noise(),
+        settle_s=settle_s,
+    ).setup(world, np.random.default_rng(seed))
     heading = world.torso_yaw_rad()
     ball0 = world.ball_pos_m()[:2]
 
@@ -114,8 +129,12 @@ def run_kick(movement: Movement, seed: int, perturb: bool = True, *,
     standing = not world.fallen()
     # Then keep the last keyframe while the ball rolls to rest.
     remaining = max(0.0, max_time_s - movement.duration_s - after_s)
-    run(world, HoldPose(movement.steps[-1].angles_rad, movement.robot), max_s=remaining,
-        stop=lambda w: w.ball_speed_m_s() < rest_speed_m_s)
+    run(
+        world,
+        HoldPose(movement.steps[-1].angles_rad, movement.robot),
+        max_s=remaining,
+        stop=lambda w: w.ball_speed_m_s() < rest_speed_m_s,
+    )
 
     moved = world.ball_pos_m()[:2] - ball0
     distance = float(np.hypot(*moved))
@@ -125,10 +144,17 @@ def run_kick(movement: Movement, seed: int, perturb: bool = True, *,
     return KickOutcome(distance, forward, direction, standing)
 
 
-def run_getup(movement: Movement, side: str, seed: int, perturb: bool = True, *,
-              perturbation: Perturbation = Perturbation(),
-              lying_pose_rad: np.ndarray | None = None,
-              settle_s: float = 0.5, after_s: float = 1.0) -> GetupOutcome:
+def run_getup(
+    movement: Movement,
+    side: str,
+    seed: int,
+    perturb: bool = True,
+    *,
+    perturbation: Perturbation = Perturbation(),
+    lying_pose_rad: np.ndarray | None = None,
+    settle_s: float = 0.5,
+    after_s: float = 1.0,
+) -> GetupOutcome:
     """Lay the robot on its ``side`` (``"front"`` or ``"back"``), let it settle, get up.
 
     ``lying_pose_rad``: (N,) joint angles while lying (default: the stand pose), perturbed.
@@ -138,12 +164,19 @@ def run_getup(movement: Movement, side: str, seed: int, perturb: bool = True, *,
         raise ValueError(f"side must be 'front' or 'back', got {side!r}")
     p = perturbation if perturb else NO_PERTURBATION
     world = MujocoWorld(movement.robot)
-    Scene(posture=f"lying_{side}", noise=p.noise(), settle_s=settle_s,
-          pose_rad=None if lying_pose_rad is None else tuple(lying_pose_rad)
-          ).setup(world, np.random.default_rng(seed))
+    Scene(
+        posture=f"lying_{side}",
+        noise=p.noise(),
+        settle_s=settle_s,
+        pose_rad=None if lying_pose_rad is None else tuple(lying_pose_rad),
+    ).setup(world, np.random.default_rng(seed))
     log = UprightLog()
-    run(world, KeyframePlayer(movement, hold_s=after_s),
-        max_s=movement.duration_s + after_s + 1.0, observers=(log,))
+    run(
+        world,
+        KeyframePlayer(movement, hold_s=after_s),
+        max_s=movement.duration_s + after_s + 1.0,
+        observers=(log,),
+    )
     upright = log.upright
     if not world.upright():
         return GetupOutcome(False, None)
@@ -163,6 +196,10 @@ def run_stand(duration_s: float, seed: int | None = None, robot: str = "nao") ->
     Scene(noise=noise, settle_s=0.0).setup(world, np.random.default_rng(seed or 0))
     log = UprightLog()
     stand = load_motion("stand", robot)
-    run(world, KeyframePlayer(stand, hold_s=duration_s), max_s=stand.duration_s + duration_s,
-        observers=(log,))
+    run(
+        world,
+        KeyframePlayer(stand, hold_s=duration_s),
+        max_s=stand.duration_s + duration_s,
+        observers=(log,),
+    )
     return not any(log.fallen) and not world.fallen()

@@ -27,8 +27,9 @@ class NoisyCommands(Agent):
     """Wraps an agent and adds seeded Gaussian noise [rad/s] to its speed commands (a
     reference command is first turned into the speeds the robot's servos would get)."""
 
-    def __init__(self, inner: Agent, rng: np.random.Generator, speed_noise_rad_s: float,
-                 servos=None) -> None:
+    def __init__(
+        self, inner: Agent, rng: np.random.Generator, speed_noise_rad_s: float, servos=None
+    ) -> None:
         super().__init__()
         self.inner, self.rng, self.noise = inner, rng, speed_noise_rad_s
         self.servos = servos
@@ -44,8 +45,11 @@ class NoisyCommands(Agent):
         self.done, self.reference_rad = self.inner.done, self.inner.reference_rad
         if not self.noise:
             return command
-        speeds = command.speed_rad_s if command.speed_rad_s is not None else \
-            self.servos.track(command.reference_rad, obs.joint_angles_rad)
+        speeds = (
+            command.speed_rad_s
+            if command.speed_rad_s is not None
+            else self.servos.track(command.reference_rad, obs.joint_angles_rad)
+        )
         return JointCommand.speeds(speeds + self.rng.normal(0.0, self.noise, speeds.shape))
 
 
@@ -97,9 +101,16 @@ class KickResult:
     standing: bool
 
 
-def straight_walk(make_agent: Callable[[], Agent], distance_m: float = 15.0, *, seed: int = 0,
-                  speed_noise_rad_s: float = 0.0, start_after_m: float = 1.0,
-                  max_time_s: float = 60.0, world: MujocoWorld | None = None) -> WalkResult:
+def straight_walk(
+    make_agent: Callable[[], Agent],
+    distance_m: float = 15.0,
+    *,
+    seed: int = 0,
+    speed_noise_rad_s: float = 0.0,
+    start_after_m: float = 1.0,
+    max_time_s: float = 60.0,
+    world: MujocoWorld | None = None,
+) -> WalkResult:
     """Place the robot standing on its own goal line facing +x and let the agent walk.
 
     The speed is measured from the moment the torso has advanced ``start_after_m`` [m]
@@ -112,20 +123,36 @@ def straight_walk(make_agent: Callable[[], Agent], distance_m: float = 15.0, *, 
     Scene(robot_xy_m=(x0, 0.0), settle_s=0.0, ball_xy_m=(0.0, 0.0)).setup(w, rng)
     agent = NoisyCommands(make_agent(), rng, speed_noise_rad_s, w.robot.actuator)
     log = _WalkLog(x0, start_after_m)
-    run(w, agent, max_s=max_time_s, stop_when_done=False, abort_on_fall=True, observers=(log,),
-        stop=lambda w: w.torso_pos_m()[0] - x0 >= distance_m)
+    run(
+        w,
+        agent,
+        max_s=max_time_s,
+        stop_when_done=False,
+        abort_on_fall=True,
+        observers=(log,),
+        stop=lambda w: w.torso_pos_m()[0] - x0 >= distance_m,
+    )
     x = w.torso_pos_m()[0]
     t_start = log.t_start_s
-    speed = ((x - x0 - start_after_m) / (w.time_s - t_start)
-             if t_start is not None and w.time_s > t_start else 0.0)
-    return WalkResult(w.fallen(), float(x - x0), float(speed), float(log.drift_m), w.time_s,
-                      np.array(log.angles))
+    speed = (
+        (x - x0 - start_after_m) / (w.time_s - t_start)
+        if t_start is not None and w.time_s > t_start
+        else 0.0
+    )
+    return WalkResult(
+        w.fallen(), float(x - x0), float(speed), float(log.drift_m), w.time_s, np.array(log.angles)
+    )
 
 
-def kick_from_stand(make_agent: Callable[[], Agent], *, seed: int = 0,
-                    pose_noise_rad: float = 0.0, ball_noise_m: float = 0.0,
-                    speed_noise_rad_s: float = 0.0,
-                    world: MujocoWorld | None = None) -> KickResult:
+def kick_from_stand(
+    make_agent: Callable[[], Agent],
+    *,
+    seed: int = 0,
+    pose_noise_rad: float = 0.0,
+    ball_noise_m: float = 0.0,
+    speed_noise_rad_s: float = 0.0,
+    world: MujocoWorld | None = None,
+) -> KickResult:
     """Stand the robot at the centre spot, put the ball where the kick wants it, kick.
 
     After the agent reports done, the joints hold their last pose for 2 s and the ball is
@@ -135,9 +162,11 @@ def kick_from_stand(make_agent: Callable[[], Agent], *, seed: int = 0,
     w = world or MujocoWorld()
     rng = np.random.default_rng(seed)
     agent = make_agent()
-    Scene(ball_offset_m=agent.ball_offset_m, settle_s=0.2,
-          noise=PoseNoise(joint_rad=pose_noise_rad, ball_m=ball_noise_m,
-                          distribution="uniform")).setup(w, rng)
+    Scene(
+        ball_offset_m=agent.ball_offset_m,
+        settle_s=0.2,
+        noise=PoseNoise(joint_rad=pose_noise_rad, ball_m=ball_noise_m, distribution="uniform"),
+    ).setup(w, rng)
     ball0 = w.ball_pos_m()[:2]
     noisy = NoisyCommands(agent, rng, speed_noise_rad_s, w.robot.actuator)
     run(w, noisy, max_s=10.0)
@@ -146,5 +175,6 @@ def kick_from_stand(make_agent: Callable[[], Agent], *, seed: int = 0,
     standing = w.upright()
     run(w, hold, max_s=20.0, stop=lambda w: w.ball_speed_m_s() < 0.01)
     b = w.ball_pos_m()
-    return KickResult(float(b[0] - ball0[0]), float(b[1] - ball0[1]),
-                      bool(standing and not math.isnan(b[0])))
+    return KickResult(
+        float(b[0] - ball0[0]), float(b[1] - ball0[1]), bool(standing and not math.isnan(b[0]))
+    )

@@ -14,8 +14,17 @@ from rich.console import Console
 
 from mimic.errors import MimicError
 
-__all__ = ["console", "err_console", "reports_errors", "fail", "warn", "FORCE", "SAVE",
-           "SAVE_OLD", "save_path"]
+__all__ = [
+    "console",
+    "err_console",
+    "reports_errors",
+    "fail",
+    "warn",
+    "FORCE",
+    "SAVE",
+    "SAVE_OLD",
+    "save_path",
+]
 
 console = Console()
 err_console = Console(stderr=True)
@@ -24,8 +33,7 @@ F = TypeVar("F", bound=Callable)
 #: ``--force``: the one way to replace an existing output file (see ``mimic.files``).
 FORCE = typer.Option("--force", help="Replace output files that exist (default: refuse).")
 #: ``--save FILE.rrd``: write a Rerun view to a file (the same name in every command).
-SAVE = typer.Option("--save", help="Write the Rerun view to this .rrd file.",
-                    show_default=False)
+SAVE = typer.Option("--save", help="Write the Rerun view to this .rrd file.", show_default=False)
 #: The old name of ``--save`` in ``train`` and ``trial``, kept working but not shown.
 SAVE_OLD = typer.Option("--save-rrd", hidden=True)
 

@@ -32,17 +32,25 @@ _DEFAULT_VALIDATION = {"kick": 12, "walk": 40}
 
 
 def _search_bar(budget: int):
-    progress = Progress(TextColumn("[bold]{task.description}"), BarColumn(),
-                        TextColumn("{task.fields[status]}"), TimeElapsedColumn(), console=console)
+    progress = Progress(
+        TextColumn("[bold]{task.description}"),
+        BarColumn(),
+        TextColumn("{task.fields[status]}"),
+        TimeElapsedColumn(),
+        console=console,
+    )
     task = progress.add_task("search", total=budget, status="")
 
     def update(result) -> None:
         progress.start()  # on the first generation: bad input fails before any bar shows
         g = result.generations[-1]
         _, best, _ = result.best
-        progress.update(task, completed=min(result.evaluations, budget),
-                        status=f"{result.evaluations}/{budget} evaluations, generation "
-                        f"{g.index}: best {g.scores.max():.3f}, overall {best:.3f}")
+        progress.update(
+            task,
+            completed=min(result.evaluations, budget),
+            status=f"{result.evaluations}/{budget} evaluations, generation "
+            f"{g.index}: best {g.scores.max():.3f}, overall {best:.3f}",
+        )
 
     return progress, update
 
@@ -54,40 +62,85 @@ def _stop(shown: Progress) -> None:
 
 
 def _improve(
-    target: Annotated[str, typer.Argument(help="What to improve: a keyframe motion (name or "
-                                          ".txt), a learned model (.mimic, +balance), "
-                                          "other-team-walk or a .json parameter file.",
-                                          show_default=False)],
-    objective: Annotated[ObjectiveName, typer.Option(help="kick: distance x accuracy, falls "
-                                                     "penalised; walk: speed over 15 m, falls "
-                                                     "and drift penalised.",
-                                                     show_default=False)],
-    budget: Annotated[int, typer.Option(help="Candidate evaluations in all (whole generations).",
-                                        show_default=False)],
-    out: Annotated[Path, typer.Option("--out", "-o", help="The improved motion (.txt), model "
-                                      "(.mimic) or parameter file (.json).", show_default=False)],
+    target: Annotated[
+        str,
+        typer.Argument(
+            help="What to improve: a keyframe motion (name or "
+            ".txt), a learned model (.mimic, +balance), "
+            "other-team-walk or a .json parameter file.",
+            show_default=False,
+        ),
+    ],
+    objective: Annotated[
+        ObjectiveName,
+        typer.Option(
+            help="kick: distance x accuracy, falls "
+            "penalised; walk: speed over 15 m, falls "
+            "and drift penalised.",
+            show_default=False,
+        ),
+    ],
+    budget: Annotated[
+        int,
+        typer.Option(help="Candidate evaluations in all (whole generations).", show_default=False),
+    ],
+    out: Annotated[
+        Path,
+        typer.Option(
+            "--out",
+            "-o",
+            help="The improved motion (.txt), model (.mimic) or parameter file (.json).",
+            show_default=False,
+        ),
+    ],
     seed: Annotated[int, typer.Option(help="Seeds the search and its episodes.")] = 0,
-    episodes: Annotated[int | None, typer.Option(help="Trial episodes per evaluation "
-                                                 "(default: kick 2, walk 4).")] = None,
-    validate: Annotated[int | None, typer.Option(help="Held-out validation episodes, never "
-                                                 "played in the search (default: kick 12, "
-                                                 "walk 40; 0: none).")] = None,
-    compare: Annotated[list[str] | None, typer.Option(help="Reference variants at the head of "
-                                                      "the validation table, e.g. kick_right.")
-                       ] = None,
-    joints: Annotated[str, typer.Option(help="Joints a motion or model may change: legs, all, "
-                                        "or names separated by commas.")] = "legs",
-    pick: Annotated[Pick, typer.Option(help="Write the best candidate scored, or the "
-                                       "optimiser's final mean (steadier under noisy "
-                                       "scores).")] = "best",
+    episodes: Annotated[
+        int | None, typer.Option(help="Trial episodes per evaluation (default: kick 2, walk 4).")
+    ] = None,
+    validate: Annotated[
+        int | None,
+        typer.Option(
+            help="Held-out validation episodes, never "
+            "played in the search (default: kick 12, "
+            "walk 40; 0: none)."
+        ),
+    ] = None,
+    compare: Annotated[
+        list[str] | None,
+        typer.Option(
+            help="Reference variants at the head of the validation table, e.g. kick_right."
+        ),
+    ] = None,
+    joints: Annotated[
+        str,
+        typer.Option(
+            help="Joints a motion or model may change: legs, all, or names separated by commas."
+        ),
+    ] = "legs",
+    pick: Annotated[
+        Pick,
+        typer.Option(
+            help="Write the best candidate scored, or the "
+            "optimiser's final mean (steadier under noisy "
+            "scores)."
+        ),
+    ] = "best",
     sigma: Annotated[float, typer.Option(help="Initial CMA-ES step, in parameter scales.")] = 1.0,
-    population: Annotated[int | None, typer.Option(help="Candidates per generation (default: "
-                                                   "4 + 3 ln d).")] = None,
-    checkpoint: Annotated[Path | None, typer.Option(help="Checkpoint to resume from and write "
-                                                    "(default: OUT.ckpt.json).")] = None,
-    save: Annotated[Path | None, typer.Option(help="Save a Rerun .rrd: fitness curve, every "
-                                              "candidate, the improved candidate's held-out "
-                                              "episode in 3D.")] = None,
+    population: Annotated[
+        int | None, typer.Option(help="Candidates per generation (default: 4 + 3 ln d).")
+    ] = None,
+    checkpoint: Annotated[
+        Path | None,
+        typer.Option(help="Checkpoint to resume from and write (default: OUT.ckpt.json)."),
+    ] = None,
+    save: Annotated[
+        Path | None,
+        typer.Option(
+            help="Save a Rerun .rrd: fitness curve, every "
+            "candidate, the improved candidate's held-out "
+            "episode in 3D."
+        ),
+    ] = None,
     workers: Annotated[int | None, WORKERS] = None,
     ray: Annotated[bool, RAY] = False,
     ray_address: Annotated[str | None, RAY_ADDRESS] = None,
@@ -97,11 +150,11 @@ def _improve(
     import math
 
     from mimic import options
-    from mimic.files import check_outputs
-
     from mimic.cli.trial import TrialProgress, _print
+    from mimic.files import check_outputs
     from mimic.improve import improve
     from mimic.trials.executors import RAY_LOCAL
+
     if budget <= 0:
         raise MimicError(f"--budget must be > 0 evaluations, got {budget}")
     options.seed(seed)
@@ -113,48 +166,71 @@ def _improve(
     checks = TrialProgress(None, n_validate)  # the held-out episodes, as a trial shows them
 
     def before_search(tgt, obj, pop) -> None:
-        console.print(f"{tgt.label}: {tgt.space.dim} parameters, {pop} candidates per "
-                      f"generation, {obj.episodes} {obj.name} episodes per evaluation",
-                      highlight=False)
+        console.print(
+            f"{tgt.label}: {tgt.space.dim} parameters, {pop} candidates per "
+            f"generation, {obj.episodes} {obj.name} episodes per evaluation",
+            highlight=False,
+        )
 
     workers = check_workers(workers, ray or bool(ray_address))
     try:  # improve() checks every input before it starts workers
-        run = improve(target, objective=objective.value, budget=budget, out=out, seed=seed,
-                      episodes=episodes, sigma=sigma, population=population, joints=joints,
-                      pick=Pick(pick).value,
-                      validation_episodes=n_validate, references=tuple(compare or ()),
-                      checkpoint=checkpoint, workers=workers,
-                      ray=(ray_address or RAY_LOCAL) if ray or ray_address else None,
-                      on_generation=on_generation, before_search=before_search,
-                      on_validation=lambda label, b: (_stop(bar), checks(label, b)))
+        run = improve(
+            target,
+            objective=objective.value,
+            budget=budget,
+            out=out,
+            seed=seed,
+            episodes=episodes,
+            sigma=sigma,
+            population=population,
+            joints=joints,
+            pick=Pick(pick).value,
+            validation_episodes=n_validate,
+            references=tuple(compare or ()),
+            checkpoint=checkpoint,
+            workers=workers,
+            ray=(ray_address or RAY_LOCAL) if ray or ray_address else None,
+            on_generation=on_generation,
+            before_search=before_search,
+            on_validation=lambda label, b: (_stop(bar), checks(label, b)),
+        )
     finally:
         _stop(bar)
         checks.__exit__(None, None, None)
     z, score, generation = run.search.best
-    resumed = f", {run.search.resumed} generations from the checkpoint" if run.search.resumed \
-        else ""
-    console.print(f"search: {run.search.evaluations} evaluations in {run.search_wall_s:.1f} s"
-                  f"{resumed}; best score {score:.4g} (generation {generation})",
-                  highlight=False)
+    resumed = (
+        f", {run.search.resumed} generations from the checkpoint" if run.search.resumed else ""
+    )
+    console.print(
+        f"search: {run.search.evaluations} evaluations in {run.search_wall_s:.1f} s"
+        f"{resumed}; best score {score:.4g} (generation {generation})",
+        highlight=False,
+    )
     console.print(f"wrote {run.out}")
     if run.validation is not None:
-        _print(run.validation, f"validation: {n_validate} held-out episodes per variant, "
-               f"seed {seed} ({run.validation_wall_s:.1f} s)")
+        _print(
+            run.validation,
+            f"validation: {n_validate} held-out episodes per variant, "
+            f"seed {seed} ({run.validation_wall_s:.1f} s)",
+        )
         for f in run.files:
             console.print(f"wrote {f}")
     if save:
         from mimic.viz.improve import save_improve
+
         save_improve(run, save)
         console.print(f"wrote {save}")
 
 
 def _bench_scaling(
     episodes: Annotated[int, typer.Option(help="Timed episodes per measurement.")] = 8,
-    ray: Annotated[bool, typer.Option("--ray/--no-ray", help="Measure Ray too (needs the ray "
-                                      "extra).")] = True,
+    ray: Annotated[
+        bool, typer.Option("--ray/--no-ray", help="Measure Ray too (needs the ray extra).")
+    ] = True,
 ) -> None:
     """Episodes per second for 1 and 2 local workers, process pool against Ray."""
     from mimic.trials.scaling import bench_scaling, format_scaling
+
     if episodes < 1:
         raise MimicError(f"--episodes must be >= 1, got {episodes}")
     console.print(format_scaling(bench_scaling(episodes=episodes, ray=ray)), highlight=False)
@@ -163,4 +239,5 @@ def _bench_scaling(
 def register(app: typer.Typer) -> None:
     app.command("improve")(reports_errors(_improve))
     from mimic.cli.train import bench_app
+
     bench_app.command("scaling")(reports_errors(_bench_scaling))

@@ -16,8 +16,10 @@ __all__ = ["record_server", "import_log"]
 
 def _report(result) -> None:
     """One line per recording; a recording that ended early exits non-zero."""
-    what = (f"{result.team} #{result.player} ({result.robot.upper()}): {result.samples} "
-            f"samples, {result.duration_s:.2f} s -> {result.path}")
+    what = (
+        f"{result.team} #{result.player} ({result.robot.upper()}): {result.samples} "
+        f"samples, {result.duration_s:.2f} s -> {result.path}"
+    )
     if result.frames_skipped:
         what += f" ({result.frames_skipped} frames skipped)"
     if not result.interrupted:
@@ -30,9 +32,17 @@ def _report(result) -> None:
     fail(f"{result.reason}: saved {what} (the file is complete up to there)", 1)
 
 
-def record_server(server: str | None, out: Path | None, team: str | None, player: int | None,
-                  seconds: float | None, robot: str | None, list_only: bool, wait_s: float,
-                  agent: str | None) -> None:
+def record_server(
+    server: str | None,
+    out: Path | None,
+    team: str | None,
+    player: int | None,
+    seconds: float | None,
+    robot: str | None,
+    list_only: bool,
+    wait_s: float,
+    agent: str | None,
+) -> None:
     """``mimic record --server HOST:MONITOR_PORT ...``."""
     from mimic.league.blackbox import describe_players, list_players, record_player
 
@@ -40,19 +50,23 @@ def record_server(server: str | None, out: Path | None, team: str | None, player
         raise MimicError("--list needs --server HOST:MONITOR_PORT")
     if list_only:
         players = list_players(server)
-        console.print(f"on the field of {server}: {describe_players(players)}",
-                      highlight=False)
+        console.print(f"on the field of {server}: {describe_players(players)}", highlight=False)
         return
     if agent is not None:
-        raise MimicError(f"--server records a player seen on a league server; leave out the "
-                         f"agent {agent!r} (play one with 'mimic play {agent}')")
+        raise MimicError(
+            f"--server records a player seen on a league server; leave out the "
+            f"agent {agent!r} (play one with 'mimic play {agent}')"
+        )
     if team is None or player is None:
         raise MimicError("--server needs --team NAME and --player N (see them with --list)")
     if out is None:
         raise MimicError("give the output file with -o FILE.mcap")
-    with Progress(TextColumn("recording {task.fields[who]}"),
-                  TextColumn("{task.completed:.2f} s"), console=err_console,
-                  transient=True) as bar:
+    with Progress(
+        TextColumn("recording {task.fields[who]}"),
+        TextColumn("{task.completed:.2f} s"),
+        console=err_console,
+        transient=True,
+    ) as bar:
         task = bar.add_task("record", total=None, who=f"{team} #{player}")
 
         def progress(t_s: float, total_s: float | None) -> None:
@@ -61,13 +75,23 @@ def record_server(server: str | None, out: Path | None, team: str | None, player
         def on_wait(message: str) -> None:
             bar.console.print(message, highlight=False)
 
-        result = record_player(server, out, team, player, seconds=seconds, robot=robot,
-                               wait_s=wait_s, on_wait=on_wait, progress=progress)
+        result = record_player(
+            server,
+            out,
+            team,
+            player,
+            seconds=seconds,
+            robot=robot,
+            wait_s=wait_s,
+            on_wait=on_wait,
+            progress=progress,
+        )
     _report(result)
 
 
-def import_log(log: Path, out: Path, team: str | None, player: int | None, every: bool,
-               robot: str | None) -> None:
+def import_log(
+    log: Path, out: Path, team: str | None, player: int | None, every: bool, robot: str | None
+) -> None:
     """``mimic import GAME.log --team NAME --player N -o out.mcap`` (or ``--all -o DIR``)."""
     from mimic.league.game_log import import_game_log, import_game_log_all
 

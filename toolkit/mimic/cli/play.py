@@ -17,43 +17,69 @@ def register(app: typer.Typer) -> None:
     @app.command()
     @reports_errors
     def play(
-        agent: Annotated[str, typer.Argument(
-            help="A shipped motion of the robot, a behaviour, or a model FILE.mimic "
-                 "(FILE.mimic+balance: inside the balance layer).")],
-        server: Annotated[str | None, typer.Option(
-            help="The server's agent port HOST:PORT (default: mimic hosts a server).")] = None,
+        agent: Annotated[
+            str,
+            typer.Argument(
+                help="A shipped motion of the robot, a behaviour, or a model FILE.mimic "
+                "(FILE.mimic+balance: inside the balance layer)."
+            ),
+        ],
+        server: Annotated[
+            str | None,
+            typer.Option(help="The server's agent port HOST:PORT (default: mimic hosts a server)."),
+        ] = None,
         team: Annotated[str, typer.Option(help="Team name.")] = "mimic",
         player: Annotated[int, typer.Option(help="Shirt number (1-99).")] = 1,
-        seconds: Annotated[float | None, typer.Option(
-            help="Seconds to play (default: until the agent is done, at most 60).")] = None,
+        seconds: Annotated[
+            float | None,
+            typer.Option(help="Seconds to play (default: until the agent is done, at most 60)."),
+        ] = None,
         robot: Annotated[str, typer.Option(help="The player's robot (mimic robots).")] = "t1",
-        out: Annotated[Path | None, typer.Option(
-            "-o", "--out", help="Record references and perceived angles to this .mcap.")]
-        = None,
+        out: Annotated[
+            Path | None,
+            typer.Option(
+                "-o", "--out", help="Record references and perceived angles to this .mcap."
+            ),
+        ] = None,
     ) -> None:
         """Play an agent on a league server (RCSSServerMJ) as an ordinary team process."""
         from mimic.league.play import play as play_agent
 
-        with Progress(TextColumn(f"{team} #{player} playing"), BarColumn(),
-                      TextColumn("{task.completed:.2f} s"), console=err_console,
-                      transient=True) as bar:
+        with Progress(
+            TextColumn(f"{team} #{player} playing"),
+            BarColumn(),
+            TextColumn("{task.completed:.2f} s"),
+            console=err_console,
+            transient=True,
+        ) as bar:
             task = bar.add_task("play", total=None)
 
             def progress(t_s: float, total_s: float | None) -> None:
                 bar.update(task, completed=t_s, total=total_s)
 
-            result = play_agent(agent, robot=robot, agent_address=server, team=team,
-                                player=player, seconds=seconds, out_path=out,
-                                progress=progress)
+            result = play_agent(
+                agent,
+                robot=robot,
+                agent_address=server,
+                team=team,
+                player=player,
+                seconds=seconds,
+                out_path=out,
+                progress=progress,
+            )
         saved = f"; saved {result.duration_s:.2f} s to {result.path}" if result.path else ""
         if result.end == "interrupted":
-            err_console.print(f"interrupted after {result.cycles} cycles{saved}",
-                              highlight=False)
+            err_console.print(f"interrupted after {result.cycles} cycles{saved}", highlight=False)
             raise typer.Exit(130)
         if result.interrupted:
-            fail(f"{result.end} after {result.cycles} cycles{saved} (the file is complete up "
-                 "to there)" if result.path else f"{result.end} after {result.cycles} cycles",
-                 1)
+            fail(
+                f"{result.end} after {result.cycles} cycles{saved} (the file is complete up "
+                "to there)"
+                if result.path
+                else f"{result.end} after {result.cycles} cycles",
+                1,
+            )
         how = "the agent finished" if result.end == "done" else "time is up"
-        console.print(f"{team} #{player}: {how} after {result.cycles} cycles{saved}",
-                      highlight=False)
+        console.print(
+            f"{team} #{player}: {how} after {result.cycles} cycles{saved}", highlight=False
+        )

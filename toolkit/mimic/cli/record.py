@@ -20,18 +20,28 @@ def print_recording_summary(summary: dict) -> None:
     table = Table(title=summary["path"], show_header=False, title_justify="left")
     cyclic = summary.get("cyclic")
     version, rate = summary.get("toolkit_version"), summary.get("rate_hz")
-    rows = [("motion", summary.get("motion")), ("robot", summary.get("robot")),
-            ("agent", summary.get("agent")),
-            ("team", summary.get("team")), ("source", summary.get("source")),
-            ("cyclic", None if cyclic is None else
-             f"yes, period {summary['period_s']:g} s" if cyclic else "no"),
-            ("duration", f"{summary['duration_s']:.2f} s"),
-            ("rate", f"{rate:.1f} Hz" if rate else "- (no joint topic)"),
-            ("seed", summary.get("seed")),
-            ("written by", f"mimic {version}" if version else "- (no mimic metadata)"),
-            ("started", summary.get("started_at")),
-            ("state", "interrupted" if summary["interrupted"] else "complete"),
-            ("recovery", summary["recovery"])]
+    rows = [
+        ("motion", summary.get("motion")),
+        ("robot", summary.get("robot")),
+        ("agent", summary.get("agent")),
+        ("team", summary.get("team")),
+        ("source", summary.get("source")),
+        (
+            "cyclic",
+            None
+            if cyclic is None
+            else f"yes, period {summary['period_s']:g} s"
+            if cyclic
+            else "no",
+        ),
+        ("duration", f"{summary['duration_s']:.2f} s"),
+        ("rate", f"{rate:.1f} Hz" if rate else "- (no joint topic)"),
+        ("seed", summary.get("seed")),
+        ("written by", f"mimic {version}" if version else "- (no mimic metadata)"),
+        ("started", summary.get("started_at")),
+        ("state", "interrupted" if summary["interrupted"] else "complete"),
+        ("recovery", summary["recovery"]),
+    ]
     for key, value in rows:
         table.add_row(key, "-" if value is None else str(value))
     for topic, t in summary["topics"].items():
@@ -53,7 +63,9 @@ def print_model_summary(summary: dict) -> None:
                 per_joint = value.get("mae_rad_per_joint", {})
                 for k, v in value.items():
                     if not isinstance(v, dict):
-                        table.add_row(f"metrics.{k}", f"{v:.4g}" if isinstance(v, float) else str(v))
+                        table.add_row(
+                            f"metrics.{k}", f"{v:.4g}" if isinstance(v, float) else str(v)
+                        )
             continue
         table.add_row(key, json.dumps(value) if isinstance(value, (list, tuple)) else str(value))
     console.print(table)
@@ -70,42 +82,85 @@ def register(app: typer.Typer) -> None:
     @app.command()
     @reports_errors
     def record(
-        name: Annotated[str | None, typer.Argument(
-            help="Agent: a shipped motion (stand, kick_right, ...), walk, other-team-walk, "
-                 "other-team-kick, or a model FILE.mimic (FILE.mimic+balance: inside the "
-                 "balance layer).")] = None,
+        name: Annotated[
+            str | None,
+            typer.Argument(
+                help="Agent: a shipped motion (stand, kick_right, ...), walk, other-team-walk, "
+                "other-team-kick, or a model FILE.mimic (FILE.mimic+balance: inside the "
+                "balance layer)."
+            ),
+        ] = None,
         out: Annotated[Path, typer.Option("-o", "--out", help="Output .mcap file.")] = None,
-        duration: Annotated[float | None, typer.Option(
-            "--duration", help="Seconds to record, > 0 (default: until the motion ends; "
-                               "cyclic agents: 10 periods).")] = None,
+        duration: Annotated[
+            float | None,
+            typer.Option(
+                "--duration",
+                help="Seconds to record, > 0 (default: until the motion ends; "
+                "cyclic agents: 10 periods).",
+            ),
+        ] = None,
         seed: Annotated[int, typer.Option(help="Simulation seed (0 .. 2**32-1).")] = 0,
-        observe_only: Annotated[bool, typer.Option(
-            "--observe-only", help="Record only reached joint angles, no references.")] = False,
-        warmup: Annotated[float | None, typer.Option(
-            help="Cyclic agents: seconds run before recording, >= 0 (default 4: past the "
-                 "start-up).", show_default=False)] = None,
-        model: Annotated[Path | None, typer.Option(
-            help="Record a learned motion from a .mimic model file instead of NAME.")] = None,
-        robot: Annotated[str | None, typer.Option(
-            help="Robot of shipped motions (mimic robots; default nao). --server: the "
-                 "player's robot (default: as the server shows it, else t1).")] = None,
+        observe_only: Annotated[
+            bool,
+            typer.Option("--observe-only", help="Record only reached joint angles, no references."),
+        ] = False,
+        warmup: Annotated[
+            float | None,
+            typer.Option(
+                help="Cyclic agents: seconds run before recording, >= 0 (default 4: past the "
+                "start-up).",
+                show_default=False,
+            ),
+        ] = None,
+        model: Annotated[
+            Path | None,
+            typer.Option(help="Record a learned motion from a .mimic model file instead of NAME."),
+        ] = None,
+        robot: Annotated[
+            str | None,
+            typer.Option(
+                help="Robot of shipped motions (mimic robots; default nao). --server: the "
+                "player's robot (default: as the server shows it, else t1)."
+            ),
+        ] = None,
         force: Annotated[bool, FORCE] = False,
-        server: Annotated[str | None, typer.Option(
-            help="Black-box: record a player of a league server (RCSSServerMJ) from its "
-                 "monitor port HOST:PORT.", rich_help_panel="League")] = None,
-        team: Annotated[str | None, typer.Option(
-            help="--server: the player's team.", rich_help_panel="League")] = None,
-        player: Annotated[int | None, typer.Option(
-            help="--server: the player's number.", rich_help_panel="League")] = None,
-        seconds: Annotated[float | None, typer.Option(
-            help="--server: seconds of server time to record (default: until Ctrl-C, the "
-                 "player leaves or the server stops).", rich_help_panel="League")] = None,
-        list_players: Annotated[bool, typer.Option(
-            "--list", help="--server: print the teams and players on the field.",
-            rich_help_panel="League")] = False,
-        wait: Annotated[float, typer.Option(
-            help="--server: seconds to wait for the player to join.",
-            rich_help_panel="League")] = 30.0,
+        server: Annotated[
+            str | None,
+            typer.Option(
+                help="Black-box: record a player of a league server (RCSSServerMJ) from its "
+                "monitor port HOST:PORT.",
+                rich_help_panel="League",
+            ),
+        ] = None,
+        team: Annotated[
+            str | None, typer.Option(help="--server: the player's team.", rich_help_panel="League")
+        ] = None,
+        player: Annotated[
+            int | None,
+            typer.Option(help="--server: the player's number.", rich_help_panel="League"),
+        ] = None,
+        seconds: Annotated[
+            float | None,
+            typer.Option(
+                help="--server: seconds of server time to record (default: until Ctrl-C, the "
+                "player leaves or the server stops).",
+                rich_help_panel="League",
+            ),
+        ] = None,
+        list_players: Annotated[
+            bool,
+            typer.Option(
+                "--list",
+                help="--server: print the teams and players on the field.",
+                rich_help_panel="League",
+            ),
+        ] = False,
+        wait: Annotated[
+            float,
+            typer.Option(
+                help="--server: seconds to wait for the player to join.", rich_help_panel="League"
+            ),
+        ] = 30.0,
     ) -> None:
         """Run an agent in the simulator and record it as MCAP (Ctrl-C keeps what was made).
 
@@ -122,8 +177,17 @@ def register(app: typer.Typer) -> None:
             options.finite(seconds, "--seconds", above=0)
             if out is not None and not list_players:
                 check_output(out, force=force)
-            return record_server(server, out, team, player, seconds, robot, list_players,
-                                 wait, name if model is None else str(model))
+            return record_server(
+                server,
+                out,
+                team,
+                player,
+                seconds,
+                robot,
+                list_players,
+                wait,
+                name if model is None else str(model),
+            )
         if out is None:
             raise MimicError("give the output file with -o FILE.mcap")
         if (name is None) == (model is None):
@@ -135,20 +199,33 @@ def register(app: typer.Typer) -> None:
 
         agent = make_agent(str(model) if model is not None else name, robot=robot or "nao")
         check_output(out, force=force)
-        with Progress(TextColumn("recording"), BarColumn(),
-                      TextColumn("{task.completed:.2f} s sim"), console=err_console,
-                      transient=True) as bar:
+        with Progress(
+            TextColumn("recording"),
+            BarColumn(),
+            TextColumn("{task.completed:.2f} s sim"),
+            console=err_console,
+            transient=True,
+        ) as bar:
             task = bar.add_task("record", total=None)
 
             def progress(t_s: float, total_s: float | None) -> None:
                 bar.update(task, completed=t_s, total=total_s)
 
-            result = record_agent(agent, out, duration_s=duration, seed=seed,
-                                  observe_only=observe_only, warmup_s=warmup,
-                                  progress=progress)
+            result = record_agent(
+                agent,
+                out,
+                duration_s=duration,
+                seed=seed,
+                observe_only=observe_only,
+                warmup_s=warmup,
+                progress=progress,
+            )
         if result.interrupted:
-            err_console.print(f"interrupted: saved {result.duration_s:.2f} s "
-                              f"({result.samples} samples) to {result.path}", highlight=False)
+            err_console.print(
+                f"interrupted: saved {result.duration_s:.2f} s "
+                f"({result.samples} samples) to {result.path}",
+                highlight=False,
+            )
             raise typer.Exit(130)
         print_recording_summary(describe_recording(result.path))
 
@@ -178,24 +255,44 @@ def register(app: typer.Typer) -> None:
     @app.command("import")
     @reports_errors
     def import_(
-        paper_file: Annotated[Path, typer.Argument(
-            help="A study '::' text file, or a league game log (rcssservermj --logfile).")],
-        out: Annotated[Path, typer.Option(
-            "-o", "--out", help="Output .mcap file (--all: a folder).")],
-        topic: Annotated[str | None, typer.Option(
-            help="/joint_references or /joint_states (default: by file name).")] = None,
-        distance: Annotated[float | None, typer.Option(
-            help="Kick family: which distance [m] to import.")] = None,
-        team: Annotated[str | None, typer.Option(
-            help="Game log: the player's team.", rich_help_panel="League")] = None,
-        player: Annotated[int | None, typer.Option(
-            help="Game log: the player's number.", rich_help_panel="League")] = None,
-        all_players: Annotated[bool, typer.Option(
-            "--all", help="Game log: one recording per player, TEAM_N.mcap in the -o folder.",
-            rich_help_panel="League")] = False,
-        robot: Annotated[str | None, typer.Option(
-            help="Game log: the player's robot (default: as the log shows it).",
-            rich_help_panel="League")] = None,
+        paper_file: Annotated[
+            Path,
+            typer.Argument(
+                help="A study '::' text file, or a league game log (rcssservermj --logfile)."
+            ),
+        ],
+        out: Annotated[
+            Path, typer.Option("-o", "--out", help="Output .mcap file (--all: a folder).")
+        ],
+        topic: Annotated[
+            str | None,
+            typer.Option(help="/joint_references or /joint_states (default: by file name)."),
+        ] = None,
+        distance: Annotated[
+            float | None, typer.Option(help="Kick family: which distance [m] to import.")
+        ] = None,
+        team: Annotated[
+            str | None, typer.Option(help="Game log: the player's team.", rich_help_panel="League")
+        ] = None,
+        player: Annotated[
+            int | None,
+            typer.Option(help="Game log: the player's number.", rich_help_panel="League"),
+        ] = None,
+        all_players: Annotated[
+            bool,
+            typer.Option(
+                "--all",
+                help="Game log: one recording per player, TEAM_N.mcap in the -o folder.",
+                rich_help_panel="League",
+            ),
+        ] = False,
+        robot: Annotated[
+            str | None,
+            typer.Option(
+                help="Game log: the player's robot (default: as the log shows it).",
+                rich_help_panel="League",
+            ),
+        ] = None,
         force: Annotated[bool, FORCE] = False,
     ) -> None:
         """Convert one of the study's joint tables, or players of a league game log, into

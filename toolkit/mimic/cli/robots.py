@@ -19,10 +19,16 @@ def _row(name: str) -> dict:
         robot = get_robot(name)
     except MimicError as err:  # a league robot without rcsssmj installed: list it anyway
         return {"name": name, "error": str(err)}
-    return {"name": robot.name, "title": robot.title, "joints": robot.num_joints,
-            "mass_kg": round(robot.mass_kg, 3), "actuator": robot.actuator.kind,
-            "actuator_detail": robot.actuator.describe(), "world": robot.world,
-            "mjcf_path": str(robot.mjcf_path) if robot.mjcf_path else None}
+    return {
+        "name": robot.name,
+        "title": robot.title,
+        "joints": robot.num_joints,
+        "mass_kg": round(robot.mass_kg, 3),
+        "actuator": robot.actuator.kind,
+        "actuator_detail": robot.actuator.describe(),
+        "world": robot.world,
+        "mjcf_path": str(robot.mjcf_path) if robot.mjcf_path else None,
+    }
 
 
 @reports_errors
@@ -35,15 +41,25 @@ def robots(
         console.print_json(json.dumps(rows))
         return
     table = Table(box=None, header_style="bold")
-    for column, justify in (("name", "left"), ("joints", "right"), ("mass kg", "right"),
-                            ("actuator model", "left"), ("world", "left")):
+    for column, justify in (
+        ("name", "left"),
+        ("joints", "right"),
+        ("mass kg", "right"),
+        ("actuator model", "left"),
+        ("world", "left"),
+    ):
         table.add_column(column, justify=justify)
     for row in rows:
         if "error" in row:
             table.add_row(row["name"], "-", "-", f"[red]{row['error']}[/]", "-")
         else:
-            table.add_row(row["name"], str(row["joints"]), f"{row['mass_kg']:.2f}",
-                          row["actuator_detail"], row["world"])
+            table.add_row(
+                row["name"],
+                str(row["joints"]),
+                f"{row['mass_kg']:.2f}",
+                row["actuator_detail"],
+                row["world"],
+            )
     console.print(table)
 
 

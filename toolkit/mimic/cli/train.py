@@ -9,13 +9,22 @@ import typer
 from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 from rich.table import Table
 
-from mimic.cli.common import FORCE, SAVE, SAVE_OLD, console, err_console, reports_errors, \
-    save_path, warn
+from mimic.cli.common import (
+    FORCE,
+    SAVE,
+    SAVE_OLD,
+    console,
+    err_console,
+    reports_errors,
+    save_path,
+    warn,
+)
 
 __all__ = ["register", "bench_app"]
 
-bench_app = typer.Typer(help="Speed benchmarks (printed ratios vs a baseline run in-process).",
-                        no_args_is_help=True)
+bench_app = typer.Typer(
+    help="Speed benchmarks (printed ratios vs a baseline run in-process).", no_args_is_help=True
+)
 
 
 def _metrics_table(models) -> Table:
@@ -29,9 +38,13 @@ def _metrics_table(models) -> Table:
     for j in joints:
         errors = (m.metrics["mae_rad_per_joint"].get(j) for m in models)
         table.add_row(j, *("-" if e is None else f"{e:.4f}" for e in errors))
-    rows = [("mean abs error", "mae_rad", "{:.4f}"), ("max error", "max_error_rad", "{:.3f}"),
-            ("ended-flag accuracy", "ended_accuracy", "{:.1%}"), ("epochs", "epochs", "{}"),
-            ("wall time (s)", "wall_s", "{:.2f}")]
+    rows = [
+        ("mean abs error", "mae_rad", "{:.4f}"),
+        ("max error", "max_error_rad", "{:.3f}"),
+        ("ended-flag accuracy", "ended_accuracy", "{:.1%}"),
+        ("epochs", "epochs", "{}"),
+        ("wall time (s)", "wall_s", "{:.2f}"),
+    ]
     for label, key, fmt in rows:
         table.add_row(f"[bold]{label}", *(fmt.format(m.metrics[key]) for m in models))
     return table
@@ -43,21 +56,44 @@ def register(app: typer.Typer) -> None:
     @app.command()
     @reports_errors
     def train(
-        inputs: Annotated[list[Path], typer.Argument(
-            help="Recordings (.mcap) or study tables (.txt); several train batched.")],
-        out: Annotated[Path, typer.Option("-o", "--out", help="Model file (.mimic), or a "
-                                          "folder when several inputs are given.")],
+        inputs: Annotated[
+            list[Path],
+            typer.Argument(
+                help="Recordings (.mcap) or study tables (.txt); several train batched."
+            ),
+        ],
+        out: Annotated[
+            Path,
+            typer.Option(
+                "-o",
+                "--out",
+                help="Model file (.mimic), or a folder when several inputs are given.",
+            ),
+        ],
         preset: Annotated[str, typer.Option(help="paper (the study's setup) or fast.")] = "fast",
         epochs: Annotated[int | None, typer.Option(help="Total epochs (schedule scaled).")] = None,
         seed: Annotated[int, typer.Option(help="Seed of the initial weights (0 .. 2**32-1).")] = 0,
-        topic: Annotated[str | None, typer.Option(
-            help="/joint_references or /joint_states (default: references when present).")] = None,
-        target: Annotated[str | None, typer.Option(
-            help="reached or compensated (default: compensated for /joint_states).")] = None,
-        strict: Annotated[bool, typer.Option(
-            "--strict", help="Refuse input that may hold only part of a motion (an interrupted "
-                             "or truncated recording, a motion that never ends).")] = False,
-        rerun: Annotated[bool, typer.Option("--rerun", help="Stream loss curves to Rerun.")] = False,
+        topic: Annotated[
+            str | None,
+            typer.Option(
+                help="/joint_references or /joint_states (default: references when present)."
+            ),
+        ] = None,
+        target: Annotated[
+            str | None,
+            typer.Option(help="reached or compensated (default: compensated for /joint_states)."),
+        ] = None,
+        strict: Annotated[
+            bool,
+            typer.Option(
+                "--strict",
+                help="Refuse input that may hold only part of a motion (an interrupted "
+                "or truncated recording, a motion that never ends).",
+            ),
+        ] = False,
+        rerun: Annotated[
+            bool, typer.Option("--rerun", help="Stream loss curves to Rerun.")
+        ] = False,
         save: Annotated[Path | None, SAVE] = None,
         save_old: Annotated[Path | None, SAVE_OLD] = None,
         force: Annotated[bool, FORCE] = False,
@@ -77,8 +113,9 @@ def register(app: typer.Typer) -> None:
             raise MimicError(str(err)) from None
         several = len(inputs) > 1
         if several and out.suffix == SUFFIX:
-            raise MimicError(f"{len(inputs)} inputs: -o must be a folder (one model each), "
-                             f"not {out}")
+            raise MimicError(
+                f"{len(inputs)} inputs: -o must be a folder (one model each), not {out}"
+            )
         datasets = [training_dataset(p, topic, target) for p in inputs]
         for warning in (w for d in datasets for w in input_warnings(d)):
             if strict:
@@ -93,16 +130,30 @@ def register(app: typer.Typer) -> None:
             curves = TrainingCurves(spawn=rerun, save_rrd=save, overwrite=force)
         total = config.schedule().epochs
         try:
-            with Progress(TextColumn("training {task.description}"), BarColumn(),
-                          TextColumn("{task.completed}/{task.total} epochs"),
-                          TextColumn("loss {task.fields[loss]:.2e}  MAE {task.fields[mae]:.4f} rad"),
-                          TimeElapsedColumn(), console=err_console, transient=True) as bar:
-                task = bar.add_task(", ".join(d.name for d in datasets), total=total,
-                                    loss=float("nan"), mae=float("nan"))
+            with Progress(
+                TextColumn("training {task.description}"),
+                BarColumn(),
+                TextColumn("{task.completed}/{task.total} epochs"),
+                TextColumn("loss {task.fields[loss]:.2e}  MAE {task.fields[mae]:.4f} rad"),
+                TimeElapsedColumn(),
+                console=err_console,
+                transient=True,
+            ) as bar:
+                task = bar.add_task(
+                    ", ".join(d.name for d in datasets),
+                    total=total,
+                    loss=float("nan"),
+                    mae=float("nan"),
+                )
 
                 def progress(p) -> None:
-                    bar.update(task, completed=p.epoch, description=", ".join(p.names),
-                               loss=float(p.loss.max()), mae=float(p.mae_rad.max()))
+                    bar.update(
+                        task,
+                        completed=p.epoch,
+                        description=", ".join(p.names),
+                        loss=float(p.loss.max()),
+                        mae=float(p.mae_rad.max()),
+                    )
                     if curves is not None:
                         curves(p)
 
@@ -145,8 +196,9 @@ def register(app: typer.Typer) -> None:
     @bench_app.command("train")
     @reports_errors
     def bench_train(
-        baseline_epochs: Annotated[int, typer.Option(
-            help="Epochs of the torch baseline (extrapolated to 50000).")] = 2000,
+        baseline_epochs: Annotated[
+            int, typer.Option(help="Epochs of the torch baseline (extrapolated to 50000).")
+        ] = 2000,
         batch: Annotated[int, typer.Option(help="Motions trained batched vs in sequence.")] = 8,
     ) -> None:
         """Training speed: numpy trainer vs the straightforward torch loop; batched vs sequential."""

@@ -17,24 +17,38 @@ from mimic.cli.common import FORCE, SAVE_OLD, console, reports_errors, save_path
 from mimic.cli.executor_options import RAY, RAY_ADDRESS, WORKERS, open_executor
 from mimic.errors import MimicError
 
-trial_app = typer.Typer(help="Run the kick and walk trials (original and learned side by side).",
-                        no_args_is_help=True)
+trial_app = typer.Typer(
+    help="Run the kick and walk trials (original and learned side by side).", no_args_is_help=True
+)
 
-_VARIANTS = typer.Argument(help="Variants to try side by side (motion names, .mimic models, "
-                           "agent names; M.mimic+balance: that model inside the balance layer); "
-                           "the first is the baseline for ratios.", show_default=False)
-_COMPARE = typer.Option("--compare", "-c", help="Compare the variants given (the study's table "
-                        "with ratios); reads as: --compare kick_right models/kick_right.mimic.")
+_VARIANTS = typer.Argument(
+    help="Variants to try side by side (motion names, .mimic models, "
+    "agent names; M.mimic+balance: that model inside the balance layer); "
+    "the first is the baseline for ratios.",
+    show_default=False,
+)
+_COMPARE = typer.Option(
+    "--compare",
+    "-c",
+    help="Compare the variants given (the study's table "
+    "with ratios); reads as: --compare kick_right models/kick_right.mimic.",
+)
 _MOTION = typer.Option("--motion", help="One keyframe motion or agent name to try.")
 _MODEL = typer.Option("--model", help="One learned model (.mimic) to try.")
 _RERUN = typer.Option("--rerun", help="Open the same dashboard in a Rerun viewer.")
-_SAVE_HELP = ("Save a Rerun dashboard (.rrd): curves, histogram, episode markers, the first "
-              "episode of each variant in 3D.")
+_SAVE_HELP = (
+    "Save a Rerun dashboard (.rrd): curves, histogram, episode markers, the first "
+    "episode of each variant in 3D."
+)
 _SEED = typer.Option(help="Seed (0 .. 2**32-1); the same seed gives the same table.")
-_WORLD = typer.Option(help="Where episodes play: mujoco (ours; also 'nao') or league (a "
-                      "league server mimic hosts per episode: sync, no real time, free ports).")
-_ROBOT = typer.Option(help="The robot (mimic robots); default: nao in our world, t1 in the "
-                      "league.", show_default=False)
+_WORLD = typer.Option(
+    help="Where episodes play: mujoco (ours; also 'nao') or league (a "
+    "league server mimic hosts per episode: sync, no real time, free ports)."
+)
+_ROBOT = typer.Option(
+    help="The robot (mimic robots); default: nao in our world, t1 in the league.",
+    show_default=False,
+)
 
 #: Without a terminal (a pipe, a log file), a progress line is printed at most this often [s].
 PLAIN_PROGRESS_EVERY_S = 5.0
@@ -42,11 +56,14 @@ PLAIN_PROGRESS_EVERY_S = 5.0
 
 def _specs(variants, compare, motion, model, balance, speed_rate, default, robot="nao"):
     from mimic.agents.registry import agent_spec
+
     names = list(variants or []) + [n for n in (motion, model) if n]
     specs = [agent_spec(n, speed_rate=speed_rate, robot=robot) for n in names or [default]]
     if compare and len(names) < 2:
-        raise MimicError("--compare needs at least two variants, e.g. "
-                         "--compare kick_right models/kick_right.mimic")
+        raise MimicError(
+            "--compare needs at least two variants, e.g. "
+            "--compare kick_right models/kick_right.mimic"
+        )
     # --balance wraps every learned motion; keyframe motions and agents stay as they are.
     specs = [replace(s, balance=True) if balance and s.kind == "model" else s for s in specs]
     for spec in specs:  # every variant can run, before the first one does
@@ -69,13 +86,16 @@ class TrialProgress:
         self._printed: dict[str, str] = {}
         self._printed_at = -math.inf
         self._bar = Progress(
-            TextColumn("[bold]{task.description}", table_column=Column(overflow="fold",
-                                                                       max_width=28)),
+            TextColumn(
+                "[bold]{task.description}", table_column=Column(overflow="fold", max_width=28)
+            ),
             BarColumn(bar_width=8),
             TextColumn("{task.fields[status]}", table_column=Column(no_wrap=True)),
-            TimeElapsedColumn(), console=console)
+            TimeElapsedColumn(),
+            console=console,
+        )
 
-    def __enter__(self) -> "TrialProgress":
+    def __enter__(self) -> TrialProgress:
         return self
 
     def __exit__(self, *exc) -> None:
@@ -88,17 +108,20 @@ class TrialProgress:
 
     def __call__(self, label: str, batch) -> None:
         from mimic.trials.report import progress_status
+
         status = progress_status(batch, self.minutes, self.runs)
         self._last[label] = status
         if self.live:
             if not self._bar.live.is_started:
                 self._bar.start()
             if label not in self._tasks:
-                self._tasks[label] = self._bar.add_task(label, total=self.minutes or self.runs,
-                                                        status="")
+                self._tasks[label] = self._bar.add_task(
+                    label, total=self.minutes or self.runs, status=""
+                )
             done = batch.simulated_s / 60 if self.minutes else len(batch.episodes)
-            self._bar.update(self._tasks[label], completed=min(done, self.minutes or self.runs),
-                             status=status)
+            self._bar.update(
+                self._tasks[label], completed=min(done, self.minutes or self.runs), status=status
+            )
             return
         now = time.monotonic()
         if now - self._printed_at >= PLAIN_PROGRESS_EVERY_S:
@@ -108,27 +131,45 @@ class TrialProgress:
 
 #: Columns of the printed table (all columns go to the files), with short headers.
 _SHOWN = {
-    "kick": {"variant": "variant", "attempts": "kicks", "successful": "ok", "accuracy_pct": "acc %",
-             "mean_distance_m": "dist m", "std_distance_m": "std m", "goals": "goals",
-             "falls": "falls", "stuck": "stuck", "accuracy_pct_ratio": "acc ratio",
-             "mean_distance_m_ratio": "dist ratio"},
-    "walk": {"variant": "variant", "runs": "runs", "mean_speed_m_s": "speed m/s",
-             "std_speed_m_s": "std", "mean_y_error_m": "Y err m", "std_y_error_m": "std",
-             "falls": "falls", "mean_speed_m_s_ratio": "speed ratio"},
+    "kick": {
+        "variant": "variant",
+        "attempts": "kicks",
+        "successful": "ok",
+        "accuracy_pct": "acc %",
+        "mean_distance_m": "dist m",
+        "std_distance_m": "std m",
+        "goals": "goals",
+        "falls": "falls",
+        "stuck": "stuck",
+        "accuracy_pct_ratio": "acc ratio",
+        "mean_distance_m_ratio": "dist ratio",
+    },
+    "walk": {
+        "variant": "variant",
+        "runs": "runs",
+        "mean_speed_m_s": "speed m/s",
+        "std_speed_m_s": "std",
+        "mean_y_error_m": "Y err m",
+        "std_y_error_m": "std",
+        "falls": "falls",
+        "mean_speed_m_s_ratio": "speed ratio",
+    },
 }
 #: Shown column -> (column whose 95 % interval goes under it, how: a range in % or +- half).
-_CI_SHOWN = {"accuracy_pct": ("accuracy_pct", "range"),
-             "mean_distance_m": ("mean_distance_m", "half"),
-             "mean_speed_m_s": ("mean_speed_m_s", "half"),
-             "mean_y_error_m": ("mean_y_error_m", "half"),
-             "falls": ("fall_rate_pct", "range %")}
+_CI_SHOWN = {
+    "accuracy_pct": ("accuracy_pct", "range"),
+    "mean_distance_m": ("mean_distance_m", "half"),
+    "mean_speed_m_s": ("mean_speed_m_s", "half"),
+    "mean_y_error_m": ("mean_y_error_m", "half"),
+    "falls": ("fall_rate_pct", "range %"),
+}
 _LEGEND = {
     "kick": "95% CI: 95 % confidence interval of the accuracy (Wilson) and of the mean distance "
-            "(t, +- half width). ok: kicks farther than 2 m. stuck: episodes that ended because "
-            "the robot could not reach the ball in time or could not line up with it. Ratios: "
-            "against the first variant.",
+    "(t, +- half width). ok: kicks farther than 2 m. stuck: episodes that ended because "
+    "the robot could not reach the ball in time or could not line up with it. Ratios: "
+    "against the first variant.",
     "walk": "95% CI: 95 % confidence interval of the means (t, +- half width) and of the share "
-            "of runs that fell (Wilson). Ratios: against the first variant.",
+    "of runs that fell (Wilson). Ratios: against the first variant.",
 }
 
 
@@ -152,9 +193,12 @@ def _world_text(result) -> str:
     the robot reached the ball."""
     row = result.summary.row(0, named=True)
     world = {"league": "league world (RCSSServerMJ)", "mujoco": "our MuJoCo world"}.get(
-        row.get("world"), "our MuJoCo world")
-    reach = {"place": "robot placed behind the ball after each kick",
-             "walk": "robot walks to the ball"}.get(row.get("reach"))
+        row.get("world"), "our MuJoCo world"
+    )
+    reach = {
+        "place": "robot placed behind the ball after each kick",
+        "walk": "robot walks to the ball",
+    }.get(row.get("reach"))
     return world + (f", {reach}" if reach else "")
 
 
@@ -162,12 +206,16 @@ def _print(result, title: str) -> None:
     shown = {c: h for c, h in _SHOWN[result.kind].items() if c in result.summary.columns}
     # Headers on two lines, no vertical rules, no edges: a whole kick table, confidence
     # intervals included, fits in 80 columns.
-    table = Table(title=title, box=box.SIMPLE_HEAD, pad_edge=False, padding=(0, 1, 0, 0),
-                  show_edge=False)
+    table = Table(
+        title=title, box=box.SIMPLE_HEAD, pad_edge=False, padding=(0, 1, 0, 0), show_edge=False
+    )
     for c, header in shown.items():
-        table.add_column(header.replace(" ", "\n"), justify="left" if c == "variant" else "right",
-                         overflow="fold" if c == "variant" else "ellipsis",
-                         no_wrap=c != "variant")
+        table.add_column(
+            header.replace(" ", "\n"),
+            justify="left" if c == "variant" else "right",
+            overflow="fold" if c == "variant" else "ellipsis",
+            no_wrap=c != "variant",
+        )
     for row in result.summary.iter_rows(named=True):
         table.add_row(*[_number(c, row[c]) for c in shown])
         ci = [_ci_text(row, *_CI_SHOWN[c]) if c in _CI_SHOWN else "" for c in shown]
@@ -181,6 +229,7 @@ def _print(result, title: str) -> None:
 
 def _dashboard(result, save: Path | None, rerun: bool, force: bool) -> None:
     from mimic.viz.trials import save_trial_dashboard, show_trial_dashboard
+
     if save:
         save_trial_dashboard(result, save, overwrite=force)
         console.print(f"wrote {save}", highlight=False)
@@ -189,16 +238,20 @@ def _dashboard(result, save: Path | None, rerun: bool, force: bool) -> None:
             show_trial_dashboard(result)
         except Exception as exc:  # no viewer binary or no display: the tables stand anyway
             reason = (str(exc).strip().splitlines() or [type(exc).__name__])[0]
-            raise MimicError(f"could not open a Rerun viewer ({reason}); use --save FILE and "
-                             "open it with `rerun FILE` where a display is available") from exc
+            raise MimicError(
+                f"could not open a Rerun viewer ({reason}); use --save FILE and "
+                "open it with `rerun FILE` where a display is available"
+            ) from exc
 
 
-def _check(kind: str, specs, out: Path | None, save: Path | None, force: bool,
-           **trial_options) -> None:
+def _check(
+    kind: str, specs, out: Path | None, save: Path | None, force: bool, **trial_options
+) -> None:
     """Before the first episode: options, every variant, and the outputs (they can be
     written, and do not exist unless --force)."""
     from mimic.files import check_outputs
     from mimic.trials.api import check_trial, trial_files
+
     check_trial(kind, specs, **trial_options)
     check_outputs([*trial_files(out), save], force=force)
 
@@ -213,8 +266,12 @@ def kick(
     minutes: Annotated[float, typer.Option(help="Simulated minutes per variant, > 0.")] = 30.0,
     seed: Annotated[int, _SEED] = 0,
     workers: Annotated[int | None, WORKERS] = None,
-    balance: Annotated[bool, typer.Option(help="Wrap learned motions in balance feedback.")] = False,
-    out: Annotated[Path | None, typer.Option("--out", "-o", help="Parquet file of every kick.")] = None,
+    balance: Annotated[
+        bool, typer.Option(help="Wrap learned motions in balance feedback.")
+    ] = False,
+    out: Annotated[
+        Path | None, typer.Option("--out", "-o", help="Parquet file of every kick.")
+    ] = None,
     save: Annotated[Path | None, typer.Option("--save", help=_SAVE_HELP)] = None,
     save_old: Annotated[Path | None, SAVE_OLD] = None,
     rerun: Annotated[bool, _RERUN] = False,
@@ -229,20 +286,35 @@ def kick(
     from mimic.trials.api import kick_trial
     from mimic.trials.kick import KickTrialConfig
     from mimic.trials.worlds import default_robot, world_kind
+
     save = save_path(save, save_old)
     world = world_kind(world)
-    specs = _specs(variants, compare, motion, model, balance, 1.0, "kick_right",
-                   robot or default_robot(world))
+    specs = _specs(
+        variants, compare, motion, model, balance, 1.0, "kick_right", robot or default_robot(world)
+    )
     config = KickTrialConfig(world=world)
-    _check("kick", specs, out, save, force, minutes=minutes, seed=seed, workers=workers,
-           config=config)
-    with open_executor(workers, ray, ray_address) as executor, \
-            TrialProgress(minutes, None) as progress:
-        result = kick_trial(specs, minutes=minutes, seed=seed, executor=executor, out=out,
-                            progress=progress, trace=bool(save or rerun), overwrite=force,
-                            config=config)
-    _print(result, f"kick trial, {minutes:g} simulated min per variant, seed {seed}; "
-           f"{_world_text(result)}")
+    _check(
+        "kick", specs, out, save, force, minutes=minutes, seed=seed, workers=workers, config=config
+    )
+    with (
+        open_executor(workers, ray, ray_address) as executor,
+        TrialProgress(minutes, None) as progress,
+    ):
+        result = kick_trial(
+            specs,
+            minutes=minutes,
+            seed=seed,
+            executor=executor,
+            out=out,
+            progress=progress,
+            trace=bool(save or rerun),
+            overwrite=force,
+            config=config,
+        )
+    _print(
+        result,
+        f"kick trial, {minutes:g} simulated min per variant, seed {seed}; {_world_text(result)}",
+    )
     _dashboard(result, save, rerun, force)
 
 
@@ -253,17 +325,26 @@ def walk(
     compare: Annotated[bool, _COMPARE] = False,
     motion: Annotated[str | None, _MOTION] = None,
     model: Annotated[str | None, _MODEL] = None,
-    minutes: Annotated[float | None, typer.Option(
-        help="Simulated minutes per variant, > 0.", show_default=False)] = None,
-    runs: Annotated[int | None, typer.Option(
-        help="Runs per variant, >= 1 (instead of minutes; default 10).",
-        show_default=False)] = None,
+    minutes: Annotated[
+        float | None, typer.Option(help="Simulated minutes per variant, > 0.", show_default=False)
+    ] = None,
+    runs: Annotated[
+        int | None,
+        typer.Option(
+            help="Runs per variant, >= 1 (instead of minutes; default 10).", show_default=False
+        ),
+    ] = None,
     seed: Annotated[int, _SEED] = 0,
     workers: Annotated[int | None, WORKERS] = None,
-    balance: Annotated[bool, typer.Option(help="Wrap learned motions in balance feedback.")] = False,
-    speed_rate: Annotated[float, typer.Option(
-        help="Phase-rate multiplier for learned cyclic motions, > 0.")] = 1.0,
-    out: Annotated[Path | None, typer.Option("--out", "-o", help="Parquet file of every run.")] = None,
+    balance: Annotated[
+        bool, typer.Option(help="Wrap learned motions in balance feedback.")
+    ] = False,
+    speed_rate: Annotated[
+        float, typer.Option(help="Phase-rate multiplier for learned cyclic motions, > 0.")
+    ] = 1.0,
+    out: Annotated[
+        Path | None, typer.Option("--out", "-o", help="Parquet file of every run.")
+    ] = None,
     save: Annotated[Path | None, typer.Option("--save", help=_SAVE_HELP)] = None,
     save_old: Annotated[Path | None, SAVE_OLD] = None,
     rerun: Annotated[bool, _RERUN] = False,
@@ -278,48 +359,93 @@ def walk(
     from mimic.trials.api import walk_trial
     from mimic.trials.walk import WalkTrialConfig
     from mimic.trials.worlds import default_robot, world_kind
+
     save = save_path(save, save_old)
     if minutes is not None and runs is not None:
         raise MimicError("give --minutes or --runs, not both")
     world = world_kind(world)
     robot = robot or default_robot(world)
-    specs = _specs(variants, compare, motion, model, balance, speed_rate,
-                   "walk" if robot == "nao" else "other-team-walk", robot)
+    specs = _specs(
+        variants,
+        compare,
+        motion,
+        model,
+        balance,
+        speed_rate,
+        "walk" if robot == "nao" else "other-team-walk",
+        robot,
+    )
     if minutes is None and runs is None:
         runs = 10
     config = WalkTrialConfig(world=world)
-    _check("walk", specs, out, save, force, minutes=minutes, runs=runs, seed=seed,
-           workers=workers, config=config)
-    with open_executor(workers, ray, ray_address) as executor, \
-            TrialProgress(minutes, runs) as progress:
-        result = walk_trial(specs, minutes=minutes, runs=runs, seed=seed, executor=executor,
-                            out=out, progress=progress, trace=bool(save or rerun),
-                            overwrite=force, config=config)
+    _check(
+        "walk",
+        specs,
+        out,
+        save,
+        force,
+        minutes=minutes,
+        runs=runs,
+        seed=seed,
+        workers=workers,
+        config=config,
+    )
+    with (
+        open_executor(workers, ray, ray_address) as executor,
+        TrialProgress(minutes, runs) as progress,
+    ):
+        result = walk_trial(
+            specs,
+            minutes=minutes,
+            runs=runs,
+            seed=seed,
+            executor=executor,
+            out=out,
+            progress=progress,
+            trace=bool(save or rerun),
+            overwrite=force,
+            config=config,
+        )
     start_x, finish_x = config.course_m()
-    _print(result, f"walk trial ({finish_x - start_x:g} m from a standing start), seed {seed}; "
-           f"{_world_text(result)}")
+    _print(
+        result,
+        f"walk trial ({finish_x - start_x:g} m from a standing start), seed {seed}; "
+        f"{_world_text(result)}",
+    )
     _dashboard(result, save, rerun, force)
 
 
 def _bench_league(
     seconds: Annotated[float, typer.Option(help="Simulated seconds per world, > 0.")] = 20.0,
-    kick: Annotated[str | None, typer.Option(
-        help="The T1's kick (motion name or file; default: its shipped kick_right, else it "
-             "stands).", show_default=False)] = None,
+    kick: Annotated[
+        str | None,
+        typer.Option(
+            help="The T1's kick (motion name or file; default: its shipped kick_right, else it "
+            "stands).",
+            show_default=False,
+        ),
+    ] = None,
 ) -> None:
     """Real-time factor of the league world beside our MuJoCo world's, the same work in one
     run (stand, kick, stand while the ball rolls)."""
     from mimic import options
     from mimic.trials.world_speed import bench_worlds, format_world_speeds
+
     options.finite(seconds, "--seconds", above=0)
     rows = bench_worlds(seconds=seconds, kicks={"t1": kick} if kick else None)
     console.print(format_world_speeds(rows), highlight=False)
-    console.print("RTF: simulated s per wall s; RTF+start: with opening and closing the world "
-                  "(the league's: hosting and joining a server, once per trial episode).",
-                  style="dim", highlight=False)
+    console.print(
+        "RTF: simulated s per wall s; +start: the same with opening and closing the "
+        "world (the league's: hosting and joining a server, once per trial episode); "
+        "CPU/sim: CPU s per simulated s, the server's included; ratio: RTF / the "
+        "first's.",
+        style="dim",
+        highlight=False,
+    )
 
 
 def register(app: typer.Typer) -> None:
     app.add_typer(trial_app, name="trial")
     from mimic.cli.train import bench_app
+
     bench_app.command("league")(reports_errors(_bench_league))

@@ -20,12 +20,14 @@ def view(
     """Show a recording in Rerun: robot in 3D, joint curves, references, the ended flag."""
     from mimic.files import check_output
     from mimic.viz.recording import view_recording
+
     if save is not None:
         check_output(save, force=force)
     logged = view_recording(recording, model=model, save=save, overwrite=force)
     if save:
-        console.print(f"wrote {save} ({logged['robot']}: {', '.join(logged['series'])})",
-                      highlight=False)
+        console.print(
+            f"wrote {save} ({logged['robot']}: {', '.join(logged['series'])})", highlight=False
+        )
 
 
 def register(app: typer.Typer) -> None:

@@ -9,5 +9,16 @@ from mimic.episode.observers import EpisodeTrace, FallCounter, Observer, PoseTra
 from mimic.episode.run import RunOutcome, run
 from mimic.episode.scene import Placement, PoseNoise, Scene
 
-__all__ = ["Scene", "PoseNoise", "Placement", "run", "RunOutcome", "Episode", "Observer",
-           "FallCounter", "UprightLog", "PoseTrace", "EpisodeTrace"]
+__all__ = [
+    "Scene",
+    "PoseNoise",
+    "Placement",
+    "run",
+    "RunOutcome",
+    "Episode",
+    "Observer",
+    "FallCounter",
+    "UprightLog",
+    "PoseTrace",
+    "EpisodeTrace",
+]

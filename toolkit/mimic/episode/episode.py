@@ -34,12 +34,27 @@ class Episode:
     def watchers(self) -> tuple[Observer, ...]:
         return (self.falls, *self.observers)
 
-    def run(self, agent: Agent, *, max_s: float, stop: Callable[[World], bool] | None = None,
-            reset: bool = True, abort_on_fall: bool = True, stop_when_done: bool = True) -> str:
+    def run(
+        self,
+        agent: Agent,
+        *,
+        max_s: float,
+        stop: Callable[[World], bool] | None = None,
+        reset: bool = True,
+        abort_on_fall: bool = True,
+        stop_when_done: bool = True,
+    ) -> str:
         """``run`` the agent with the episode's observers; returns how it ended."""
-        return run(self.world, agent, max_s=max_s, stop=stop, observers=self.watchers,
-                   reset=reset, abort_on_fall=abort_on_fall,
-                   stop_when_done=stop_when_done).end
+        return run(
+            self.world,
+            agent,
+            max_s=max_s,
+            stop=stop,
+            observers=self.watchers,
+            reset=reset,
+            abort_on_fall=abort_on_fall,
+            stop_when_done=stop_when_done,
+        ).end
 
     def stand_still(self, *, max_s: float, stop: Callable[[World], bool] | None = None) -> str:
         """Move into the stand pose and hold it until ``stop(world)`` or ``max_s`` [s]."""
@@ -48,8 +63,7 @@ class Episode:
 
     def wait_limp(self, *, max_s: float, stop: Callable[[World], bool] | None = None) -> str:
         """Keep the joints where they are (a fallen robot) until ``stop`` or ``max_s`` [s]."""
-        return self.run(Limp(self.world.robot.name), max_s=max_s, stop=stop,
-                        abort_on_fall=False)
+        return self.run(Limp(self.world.robot.name), max_s=max_s, stop=stop, abort_on_fall=False)
 
     def get_up(self, *, attempts: int = 3) -> bool:
         """Let the robot come to rest, then play the matching get-up; True once upright."""
@@ -58,8 +72,11 @@ class Episode:
         for _ in range(attempts):
             self.run(settle, max_s=0.6, abort_on_fall=False)
             motion = load_motion(f"getup_{self.world.lying_side()}", robot)
-            self.run(KeyframePlayer(motion, hold_s=0.5), max_s=motion.duration_s + 1.5,
-                     abort_on_fall=False)
+            self.run(
+                KeyframePlayer(motion, hold_s=0.5),
+                max_s=motion.duration_s + 1.5,
+                abort_on_fall=False,
+            )
             if self.world.upright() and not self.world.fallen():
                 self.falls.getups += 1
                 self.falls.update(self.world)

@@ -77,8 +77,10 @@ class EpisodeTrace:
 
     def poses(self) -> dict[str, tuple[np.ndarray, np.ndarray]]:
         """``{body: (positions (T, 3), quats (T, 4))}``, the form ``viz.scene`` logs."""
-        return {name: (self.body_pos_m[:, i], self.body_quat_wxyz[:, i])
-                for i, name in enumerate(self.body_names)}
+        return {
+            name: (self.body_pos_m[:, i], self.body_quat_wxyz[:, i])
+            for i, name in enumerate(self.body_names)
+        }
 
 
 class PoseTrace(Observer):
@@ -98,15 +100,14 @@ class PoseTrace(Observer):
         if self._cycle % self.every_cycles == 0:
             poses = world.body_poses()
             self._names = poses.names
-            self._samples.append((world.time_s, poses.pos_m, poses.quat_wxyz,
-                                  world.ball_pos_m()))
+            self._samples.append((world.time_s, poses.pos_m, poses.quat_wxyz, world.ball_pos_m()))
 
     def trace(self) -> EpisodeTrace:
         """Everything sampled so far."""
         if not self._samples:
             b = len(self._names)
-            return EpisodeTrace(np.zeros(0), self._names, np.zeros((0, b, 3)),
-                                np.zeros((0, b, 4)), np.zeros((0, 3)))
+            return EpisodeTrace(
+                np.zeros(0), self._names, np.zeros((0, b, 3)), np.zeros((0, b, 4)), np.zeros((0, 3))
+            )
         t, pos, quat, ball = zip(*self._samples)
-        return EpisodeTrace(np.array(t), self._names, np.stack(pos), np.stack(quat),
-                            np.stack(ball))
+        return EpisodeTrace(np.array(t), self._names, np.stack(pos), np.stack(quat), np.stack(ball))

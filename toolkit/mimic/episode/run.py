@@ -24,10 +24,17 @@ class RunOutcome:
     cycles: int
 
 
-def run(world: World, agent: Agent, *, max_s: float,
-        stop: Callable[[World], bool] | None = None,
-        observers: Sequence[Observer] = (), reset: bool = True,
-        stop_when_done: bool = True, abort_on_fall: bool = False) -> RunOutcome:
+def run(
+    world: World,
+    agent: Agent,
+    *,
+    max_s: float,
+    stop: Callable[[World], bool] | None = None,
+    observers: Sequence[Observer] = (),
+    reset: bool = True,
+    stop_when_done: bool = True,
+    abort_on_fall: bool = False,
+) -> RunOutcome:
     """Run ``agent`` in ``world`` for at most ``max_s`` [s] of simulated time.
 
     Each cycle: observe, ask the agent, show both to every observer (``before_step``), end

@@ -46,8 +46,9 @@ class PoseNoise:
 
     def __post_init__(self) -> None:
         if self.distribution not in ("normal", "uniform"):
-            raise ValueError(f"noise distribution must be normal or uniform, got "
-                             f"{self.distribution!r}")
+            raise ValueError(
+                f"noise distribution must be normal or uniform, got {self.distribution!r}"
+            )
         for name in ("position_m", "yaw_rad", "joint_rad", "ball_m"):
             value = getattr(self, name)
             if not (math.isfinite(value) and value >= 0):
@@ -111,8 +112,7 @@ class Scene:
 
     def __post_init__(self) -> None:
         if self.posture not in POSTURES:
-            raise ValueError(f"posture must be one of {', '.join(POSTURES)}, got "
-                             f"{self.posture!r}")
+            raise ValueError(f"posture must be one of {', '.join(POSTURES)}, got {self.posture!r}")
         if not (math.isfinite(self.settle_s) and self.settle_s >= 0):
             raise ValueError(f"settle time must be finite and >= 0 s, got {self.settle_s}")
 
@@ -125,8 +125,11 @@ class Scene:
         world.reset()
         dx, dy = n.draw(rng, n.position_m, 2)
         yaw = self.robot_yaw_rad + float(n.draw(rng, n.yaw_rad))
-        base = robot.stand_pose() if self.pose_rad is None else \
-            robot.check_vector(self.pose_rad, "scene pose")
+        base = (
+            robot.stand_pose()
+            if self.pose_rad is None
+            else robot.check_vector(self.pose_rad, "scene pose")
+        )
         pose = robot.clip(base + n.draw(rng, n.joint_rad, robot.num_joints))
         ball_noise = n.draw(rng, n.ball_m, 2)
         x, y = self.robot_xy_m[0] + dx, self.robot_xy_m[1] + dy
@@ -140,19 +143,26 @@ class Scene:
         world.place_ball(*ball)
         if self.settle_s > 0:
             hold = robot.stand_pose() if self.settle_into_stand else pose
-            run(world, HoldPose(hold, robot.name), max_s=self.settle_s, stop_when_done=False,
-                observers=observers)
+            run(
+                world,
+                HoldPose(hold, robot.name),
+                max_s=self.settle_s,
+                stop_when_done=False,
+                observers=observers,
+            )
         if self.ball_offset_m is not None and self.ball_after_settle:
             torso = world.torso_pos_m()
-            ball = _in_field(self.ball_offset_m, (torso[0], torso[1]),
-                             world.torso_yaw_rad()) + ball_noise
+            ball = (
+                _in_field(self.ball_offset_m, (torso[0], torso[1]), world.torso_yaw_rad())
+                + ball_noise
+            )
             world.place_ball(*ball)
-        return Placement(pose, (float(x), float(y)), float(yaw),
-                         (float(ball[0]), float(ball[1])))
+        return Placement(pose, (float(x), float(y)), float(yaw), (float(ball[0]), float(ball[1])))
 
 
 def _in_field(offset_m, xy_m, yaw_rad) -> np.ndarray:
     """A robot-frame offset (x forward, y left) from (x, y) heading ``yaw_rad``, in the field."""
     c, s = math.cos(yaw_rad), math.sin(yaw_rad)
-    return np.array([xy_m[0] + c * offset_m[0] - s * offset_m[1],
-                     xy_m[1] + s * offset_m[0] + c * offset_m[1]])
+    return np.array(
+        [xy_m[0] + c * offset_m[0] - s * offset_m[1], xy_m[1] + s * offset_m[0] + c * offset_m[1]]
+    )

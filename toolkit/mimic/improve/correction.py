@@ -33,8 +33,14 @@ __all__ = ["corrected_model", "CORRECTION_KEY"]
 CORRECTION_KEY = "correction"
 
 
-def corrected_model(model: MotionModel, rate: float, offsets_rad: np.ndarray,
-                    gains: np.ndarray, *, provenance: dict | None = None) -> MotionModel:
+def corrected_model(
+    model: MotionModel,
+    rate: float,
+    offsets_rad: np.ndarray,
+    gains: np.ndarray,
+    *,
+    provenance: dict | None = None,
+) -> MotionModel:
     """``model`` with a time warp, per-joint offsets and gains baked in (module docstring).
 
     Args:
@@ -46,24 +52,37 @@ def corrected_model(model: MotionModel, rate: float, offsets_rad: np.ndarray,
     n = model.num_joints if hasattr(model, "num_joints") else len(model.joint_names)
     offsets_rad, gains = np.asarray(offsets_rad, float), np.asarray(gains, float)
     if offsets_rad.shape != (n,) or gains.shape != (n,):
-        raise ValueError(f"offsets and gains need shape ({n},), got {offsets_rad.shape} "
-                         f"and {gains.shape}")
+        raise ValueError(
+            f"offsets and gains need shape ({n},), got {offsets_rad.shape} and {gains.shape}"
+        )
     if not rate > 0:
         raise ValueError(f"time warp rate must be > 0, got {rate}")
     mean = np.array(model.output_mean, dtype=np.float64)
     std = np.array(model.output_std, dtype=np.float64)
     mean[:n] += offsets_rad
     std[:n] *= gains
-    timing = (dict(period_s=model.period_s / rate) if model.cyclic else
-              dict(input_offset_s=model.input_offset_s / rate,
-                   input_scale_per_s=model.input_scale_per_s * rate,
-                   duration_s=model.duration_s / rate))
+    timing = (
+        dict(period_s=model.period_s / rate)
+        if model.cyclic
+        else dict(
+            input_offset_s=model.input_offset_s / rate,
+            input_scale_per_s=model.input_scale_per_s * rate,
+            duration_s=model.duration_s / rate,
+        )
+    )
     previous = model.metadata.get(CORRECTION_KEY)
-    record = {"rate": float(rate),
-              "offsets_rad": {j: float(b) for j, b in zip(model.joint_names, offsets_rad) if b},
-              "gains": {j: float(g) for j, g in zip(model.joint_names, gains) if g != 1.0},
-              **(provenance or {})}
+    record = {
+        "rate": float(rate),
+        "offsets_rad": {j: float(b) for j, b in zip(model.joint_names, offsets_rad) if b},
+        "gains": {j: float(g) for j, g in zip(model.joint_names, gains) if g != 1.0},
+        **(provenance or {}),
+    }
     if previous:  # a correction of a corrected model: keep the chain
         record["previous"] = previous
-    return dataclasses.replace(model, output_mean=mean, output_std=std,
-                               metadata={**model.metadata, CORRECTION_KEY: record}, **timing)
+    return dataclasses.replace(
+        model,
+        output_mean=mean,
+        output_std=std,
+        metadata={**model.metadata, CORRECTION_KEY: record},
+        **timing,
+    )

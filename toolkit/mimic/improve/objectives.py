@@ -54,13 +54,19 @@ class KickObjective:
         kicks = len(batch.rows)
         if kicks == 0:
             return -self.fall_penalty_m * (1 + falls)
-        useful = np.mean([r["distance_m"] * (r["distance_m"] > SUCCESS_DISTANCE_M)
-                          for r in batch.rows])
+        useful = np.mean(
+            [r["distance_m"] * (r["distance_m"] > SUCCESS_DISTANCE_M) for r in batch.rows]
+        )
         return float(useful - self.fall_penalty_m * falls / kicks)
 
     def describe(self) -> dict:
-        return dict(name=self.name, episodes=self.episodes, search_limit_s=self.search_limit_s,
-                    fall_penalty_m=self.fall_penalty_m, trial_config=asdict(self.trial_config))
+        return dict(
+            name=self.name,
+            episodes=self.episodes,
+            search_limit_s=self.search_limit_s,
+            fall_penalty_m=self.fall_penalty_m,
+            trial_config=asdict(self.trial_config),
+        )
 
 
 @dataclass(frozen=True)
@@ -94,11 +100,14 @@ class WalkObjective:
         return float(speed - self.fall_penalty_m_s * fell - self.drift_penalty_per_m * drift)
 
     def describe(self) -> dict:
-        return dict(name=self.name, episodes=self.episodes,
-                    fall_penalty_m_s=self.fall_penalty_m_s,
-                    drift_tolerance_m=self.drift_tolerance_m,
-                    drift_penalty_per_m=self.drift_penalty_per_m,
-                    trial_config=asdict(self.trial_config))
+        return dict(
+            name=self.name,
+            episodes=self.episodes,
+            fall_penalty_m_s=self.fall_penalty_m_s,
+            drift_tolerance_m=self.drift_tolerance_m,
+            drift_penalty_per_m=self.drift_penalty_per_m,
+            trial_config=asdict(self.trial_config),
+        )
 
 
 OBJECTIVES = {"kick": KickObjective, "walk": WalkObjective}

@@ -45,15 +45,28 @@ def default_checkpoint(out: Path) -> Path:
     return out.with_name(out.name + ".ckpt.json")
 
 
-def improve(target: str, *, objective, budget: int, out: Path, seed: int = 0,
-            episodes: int | None = None, sigma: float = 1.0, population: int | None = None,
-            joints: str = "legs", pick: str = "best", validation_episodes: int = 0,
-            references: tuple[str, ...] = (), checkpoint: Path | None = None,
-            workers: int | None = None, ray: str | None = None,
-            executor: Executor | None = None,
-            on_generation: Callable[[SearchResult], None] | None = None,
-            on_validation: Callable | None = None, before_search: Callable | None = None
-            ) -> ImproveRun:
+def improve(
+    target: str,
+    *,
+    objective,
+    budget: int,
+    out: Path,
+    seed: int = 0,
+    episodes: int | None = None,
+    sigma: float = 1.0,
+    population: int | None = None,
+    joints: str = "legs",
+    pick: str = "best",
+    validation_episodes: int = 0,
+    references: tuple[str, ...] = (),
+    checkpoint: Path | None = None,
+    workers: int | None = None,
+    ray: str | None = None,
+    executor: Executor | None = None,
+    on_generation: Callable[[SearchResult], None] | None = None,
+    on_validation: Callable | None = None,
+    before_search: Callable | None = None,
+) -> ImproveRun:
     """Improve ``target`` (an agent spec: motion, ``.mimic`` model, engine or ``.json``
     parameter file) for ``objective`` (``kick``/``walk``, or an objective from
     ``improve.objectives`` with its own settings) with ``budget`` evaluations of
@@ -76,8 +89,10 @@ def improve(target: str, *, objective, budget: int, out: Path, seed: int = 0,
     out = Path(out)
     tgt = load_target(target, joints=joints)
     if out.suffix != tgt.suffix:
-        raise MimicError(f"-o {out}: a {tgt.kind} target is written as a {tgt.suffix} file; "
-                         f"give e.g. -o {out.with_suffix(tgt.suffix).name}")
+        raise MimicError(
+            f"-o {out}: a {tgt.kind} target is written as a {tgt.suffix} file; "
+            f"give e.g. -o {out.with_suffix(tgt.suffix).name}"
+        )
     obj = make_objective(objective, episodes) if isinstance(objective, str) else objective
     if pick not in PICKS:
         raise MimicError(f"--pick must be one of {', '.join(PICKS)}, got {pick!r}")
@@ -91,39 +106,67 @@ def improve(target: str, *, objective, budget: int, out: Path, seed: int = 0,
     checkpoint = checkpoint or default_checkpoint(out)
     pop = population or default_population(tgt.space.dim, budget)
     if pop > budget:
-        raise MimicError(f"--budget {budget} is less than one generation ({pop} candidates); "
-                         "raise --budget or lower --population")
+        raise MimicError(
+            f"--budget {budget} is less than one generation ({pop} candidates); "
+            "raise --budget or lower --population"
+        )
     if executor is None:  # inputs are checked: start the workers
         with make_executor(workers, ray) as own:
-            return improve(target, objective=objective, budget=budget, out=out, seed=seed,
-                           episodes=episodes, sigma=sigma, population=population,
-                           joints=joints, pick=pick, validation_episodes=validation_episodes,
-                           references=references, checkpoint=checkpoint, executor=own,
-                           on_generation=on_generation, on_validation=on_validation,
-                           before_search=before_search)
+            return improve(
+                target,
+                objective=objective,
+                budget=budget,
+                out=out,
+                seed=seed,
+                episodes=episodes,
+                sigma=sigma,
+                population=population,
+                joints=joints,
+                pick=pick,
+                validation_episodes=validation_episodes,
+                references=references,
+                checkpoint=checkpoint,
+                executor=own,
+                on_generation=on_generation,
+                on_validation=on_validation,
+                before_search=before_search,
+            )
     if before_search:
         before_search(tgt, obj, pop)
     start = time.perf_counter()
-    result = search(tgt, obj, config, executor=executor, checkpoint=checkpoint,
-                    progress=on_generation)
+    result = search(
+        tgt, obj, config, executor=executor, checkpoint=checkpoint, progress=on_generation
+    )
     search_wall_s = time.perf_counter() - start
     z, score, generation = result.best
     if pick == "mean":
         z = result.mean_z
-    provenance = dict(target=target, objective=obj.name, seed=seed,
-                      evaluations=result.evaluations, episodes_per_evaluation=obj.episodes,
-                      pick=pick, best_score=score, best_generation=generation,
-                      parameters=tgt.space.describe(z))
+    provenance = dict(
+        target=target,
+        objective=obj.name,
+        seed=seed,
+        evaluations=result.evaluations,
+        episodes_per_evaluation=obj.episodes,
+        pick=pick,
+        best_score=score,
+        best_generation=generation,
+        parameters=tgt.space.describe(z),
+    )
     tgt.write(z, out, provenance)
     run = ImproveRun(tgt, obj, result, out, z=z, search_wall_s=search_wall_s)
     if validation_episodes:
         improved = tgt.spec(z, label=f"{tgt.label} (improved)")
         start = time.perf_counter()
-        run.validation = validate([*refs, tgt.baseline(), improved], obj, seed=seed,
-                                  episodes=validation_episodes, executor=executor,
-                                  search_episodes=result.search_episodes(obj.episodes),
-                                  trace_label=improved.label, progress=on_validation)
+        run.validation = validate(
+            [*refs, tgt.baseline(), improved],
+            obj,
+            seed=seed,
+            episodes=validation_episodes,
+            executor=executor,
+            search_episodes=result.search_episodes(obj.episodes),
+            trace_label=improved.label,
+            progress=on_validation,
+        )
         run.validation_wall_s = time.perf_counter() - start
-        run.files = write_summary(run.validation.summary,
-                                  out.with_name(out.stem + "_validation"))
+        run.files = write_summary(run.validation.summary, out.with_name(out.stem + "_validation"))
     return run

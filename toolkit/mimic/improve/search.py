@@ -25,8 +25,17 @@ from mimic.errors import MimicError
 from mimic.trials.executors import Executor
 from mimic.trials.parallel import EpisodeBatch, derive_seed, run_job
 
-__all__ = ["SearchConfig", "Generation", "SearchResult", "CheckpointError", "search",
-           "evaluate", "default_population", "MAX_SEARCH_EPISODE", "CHECKPOINT_FORMAT"]
+__all__ = [
+    "SearchConfig",
+    "Generation",
+    "SearchResult",
+    "CheckpointError",
+    "search",
+    "evaluate",
+    "default_population",
+    "MAX_SEARCH_EPISODE",
+    "CHECKPOINT_FORMAT",
+]
 
 CHECKPOINT_FORMAT = "mimic-improve-checkpoint"
 #: Search episodes use indices below this; validation starts here (``improve.validation``).
@@ -53,12 +62,17 @@ class SearchConfig:
     population: int | None = None
 
     def __post_init__(self) -> None:
-        if isinstance(self.budget, bool) or not isinstance(self.budget, (int, np.integer)) \
-                or self.budget < 1:
-            raise MimicError(f"--budget must be a whole number of evaluations >= 1, got "
-                             f"{self.budget!r}")
-        if not (isinstance(self.sigma, (int, float)) and math.isfinite(self.sigma)
-                and self.sigma > 0):
+        if (
+            isinstance(self.budget, bool)
+            or not isinstance(self.budget, (int, np.integer))
+            or self.budget < 1
+        ):
+            raise MimicError(
+                f"--budget must be a whole number of evaluations >= 1, got {self.budget!r}"
+            )
+        if not (
+            isinstance(self.sigma, (int, float)) and math.isfinite(self.sigma) and self.sigma > 0
+        ):
             raise MimicError(f"--sigma must be a finite number > 0, got {self.sigma!r}")
         if self.population is not None and self.population < MIN_POPULATION:
             raise MimicError(f"--population must be >= {MIN_POPULATION}, got {self.population}")
@@ -85,14 +99,23 @@ class Generation:
         return int(np.argmax(self.scores))
 
     def to_json(self) -> dict:
-        return dict(index=self.index, first_episode=self.first_episode,
-                    z=self.z.tolist(), scores=self.scores.tolist(), summaries=self.summaries)
+        return dict(
+            index=self.index,
+            first_episode=self.first_episode,
+            z=self.z.tolist(),
+            scores=self.scores.tolist(),
+            summaries=self.summaries,
+        )
 
     @classmethod
     def from_json(cls, data: dict) -> Generation:
-        return cls(int(data["index"]), np.array(data["z"], dtype=float),
-                   np.array(data["scores"], dtype=float), int(data["first_episode"]),
-                   list(data.get("summaries", [])))
+        return cls(
+            int(data["index"]),
+            np.array(data["z"], dtype=float),
+            np.array(data["scores"], dtype=float),
+            int(data["first_episode"]),
+            list(data.get("summaries", [])),
+        )
 
 
 @dataclass
@@ -122,30 +145,51 @@ class SearchResult:
         return [g.first_episode + i for g in self.generations for i in range(episodes)]
 
 
-def evaluate(specs: list, objective, *, seed: int, first_episode: int,
-             executor: Executor) -> tuple[np.ndarray, list[dict]]:
+def evaluate(
+    specs: list, objective, *, seed: int, first_episode: int, executor: Executor
+) -> tuple[np.ndarray, list[dict]]:
     """Scores (n,) and summaries of candidates ``specs``, all in the same episodes
     ``first_episode ..`` (one job per candidate and episode; results in candidate order)."""
     e = objective.episodes
     config = objective.search_config
-    jobs = [(objective.episode_fn, spec, derive_seed(seed, first_episode + i), config,
-             first_episode + i) for spec in specs for i in range(e)]
+    jobs = [
+        (
+            objective.episode_fn,
+            spec,
+            derive_seed(seed, first_episode + i),
+            config,
+            first_episode + i,
+        )
+        for spec in specs
+        for i in range(e)
+    ]
     results = executor.map(run_job, jobs)
     scores, summaries = [], []
     for c, spec in enumerate(specs):
         batch = EpisodeBatch([], [])
-        for rows, summary in results[c * e:(c + 1) * e]:
+        for rows, summary in results[c * e : (c + 1) * e]:
             batch.add(rows, summary)
         scores.append(objective.score(batch))
-        summaries.append({k: v for k, v in objective.summarise(spec.label, batch).items()
-                          if isinstance(v, (int, float)) and not isinstance(v, bool)})
+        summaries.append(
+            {
+                k: v
+                for k, v in objective.summarise(spec.label, batch).items()
+                if isinstance(v, (int, float)) and not isinstance(v, bool)
+            }
+        )
     return np.array(scores, dtype=float), summaries
 
 
 def _settings(target, objective, config: SearchConfig, population: int) -> dict:
-    return dict(target=target.text, target_kind=target.kind, parameters=list(target.space.names),
-                objective=objective.describe(), seed=config.seed, sigma=config.sigma,
-                population=population)
+    return dict(
+        target=target.text,
+        target_kind=target.kind,
+        parameters=list(target.space.names),
+        objective=objective.describe(),
+        seed=config.seed,
+        sigma=config.sigma,
+        population=population,
+    )
 
 
 def _read_checkpoint(path: Path, settings: dict) -> list[Generation]:
@@ -155,32 +199,53 @@ def _read_checkpoint(path: Path, settings: dict) -> list[Generation]:
             raise ValueError("no format tag")
         generations = [Generation.from_json(g) for g in doc["generations"]]
         stored = doc["settings"]
-    except (OSError, UnicodeDecodeError, json.JSONDecodeError, ValueError, KeyError,
-            TypeError, AttributeError) as err:
-        raise CheckpointError(f"checkpoint {path} is damaged or not a checkpoint ({err}); "
-                              "delete it to start afresh") from None
+    except (
+        OSError,
+        UnicodeDecodeError,
+        json.JSONDecodeError,
+        ValueError,
+        KeyError,
+        TypeError,
+        AttributeError,
+    ) as err:
+        raise CheckpointError(
+            f"checkpoint {path} is damaged or not a checkpoint ({err}); delete it to start afresh"
+        ) from None
     # JSON turns tuples into lists: compare in JSON form.
     if json.loads(json.dumps(settings)) != stored:
-        differ = sorted(k for k in settings if json.loads(json.dumps(settings.get(k)))
-                        != stored.get(k))
-        raise CheckpointError(f"checkpoint {path} belongs to another search (different "
-                              f"{', '.join(differ) or 'settings'}); give another --checkpoint or "
-                              "delete it")
+        differ = sorted(
+            k for k in settings if json.loads(json.dumps(settings.get(k))) != stored.get(k)
+        )
+        raise CheckpointError(
+            f"checkpoint {path} belongs to another search (different "
+            f"{', '.join(differ) or 'settings'}); give another --checkpoint or "
+            "delete it"
+        )
     return generations
 
 
 def _write_checkpoint(path: Path, settings: dict, generations: list[Generation]) -> None:
-    doc = dict(format=CHECKPOINT_FORMAT, format_version=1, settings=settings,
-               generations=[g.to_json() for g in generations])
+    doc = dict(
+        format=CHECKPOINT_FORMAT,
+        format_version=1,
+        settings=settings,
+        generations=[g.to_json() for g in generations],
+    )
     from mimic.files import atomic_output
 
     with atomic_output(path) as tmp:  # a checkpoint is replaced only by a whole new one
         tmp.write_text(json.dumps(doc))
 
 
-def search(target, objective, config: SearchConfig, *, executor: Executor,
-           checkpoint: Path | None = None,
-           progress: Callable[[SearchResult], None] | None = None) -> SearchResult:
+def search(
+    target,
+    objective,
+    config: SearchConfig,
+    *,
+    executor: Executor,
+    checkpoint: Path | None = None,
+    progress: Callable[[SearchResult], None] | None = None,
+) -> SearchResult:
     """Run CMA-ES on ``target`` for ``config.budget`` evaluations (whole generations).
 
     ``checkpoint``: read first if it exists (resume), written after every generation.
@@ -199,19 +264,27 @@ def search(target, objective, config: SearchConfig, *, executor: Executor,
     space = target.space
     population = config.population or default_population(space.dim, config.budget)
     if population > config.budget:
-        raise MimicError(f"--budget {config.budget} is less than one generation ({population} "
-                         "candidates); raise --budget or lower --population")
+        raise MimicError(
+            f"--budget {config.budget} is less than one generation ({population} "
+            "candidates); raise --budget or lower --population"
+        )
     settings = _settings(target, objective, config, population)
     stored = _read_checkpoint(checkpoint, settings) if checkpoint and checkpoint.exists() else []
-    optimizer = cmaes.CMA(mean=np.zeros(space.dim), sigma=config.sigma,
-                          bounds=space.bounds_z(), seed=config.seed,
-                          population_size=population)
+    optimizer = cmaes.CMA(
+        mean=np.zeros(space.dim),
+        sigma=config.sigma,
+        bounds=space.bounds_z(),
+        seed=config.seed,
+        population_size=population,
+    )
     result = SearchResult(settings, [], resumed=len(stored))
     for g in stored:  # replay: the optimiser must ask for exactly what was stored
         asked = np.array([optimizer.ask() for _ in range(population)])
         if asked.shape != g.z.shape or not np.array_equal(asked, g.z):
-            raise CheckpointError(f"checkpoint {checkpoint} does not replay (generation "
-                                  f"{g.index} differs; another cmaes version?); delete it")
+            raise CheckpointError(
+                f"checkpoint {checkpoint} does not replay (generation "
+                f"{g.index} differs; another cmaes version?); delete it"
+            )
         optimizer.tell(list(zip(asked, -g.scores)))
         result.generations.append(g)
     if stored and progress:
@@ -222,10 +295,13 @@ def search(target, objective, config: SearchConfig, *, executor: Executor,
         if first + objective.episodes > MAX_SEARCH_EPISODE:
             raise MimicError("the search ran out of episode indices; lower --budget")
         z = np.array([optimizer.ask() for _ in range(population)])
-        scores, summaries = evaluate([target.spec(x, label=f"g{index}c{c}")
-                                      for c, x in enumerate(z)],
-                                     objective, seed=config.seed, first_episode=first,
-                                     executor=executor)
+        scores, summaries = evaluate(
+            [target.spec(x, label=f"g{index}c{c}") for c, x in enumerate(z)],
+            objective,
+            seed=config.seed,
+            first_episode=first,
+            executor=executor,
+        )
         optimizer.tell(list(zip(z, -scores)))
         result.generations.append(Generation(index, z, scores, first, summaries))
         if checkpoint:

@@ -44,8 +44,11 @@ class Space:
         if (self.scale <= 0).any():
             raise ValueError("every scale must be > 0")
         if not ((self.lower <= self.base) & (self.base <= self.upper)).all():
-            bad = [n for n, lo, b, hi in zip(self.names, self.lower, self.base, self.upper)
-                   if not lo <= b <= hi]
+            bad = [
+                n
+                for n, lo, b, hi in zip(self.names, self.lower, self.base, self.upper)
+                if not lo <= b <= hi
+            ]
             raise ValueError(f"base values outside their bounds: {', '.join(bad)}")
 
     @property
@@ -54,13 +57,13 @@ class Space:
 
     def values(self, z: np.ndarray) -> np.ndarray:
         """(d,) parameter values for search point z (d,), clipped into the bounds."""
-        return np.clip(self.base + self.scale * np.asarray(z, dtype=float),
-                       self.lower, self.upper)
+        return np.clip(self.base + self.scale * np.asarray(z, dtype=float), self.lower, self.upper)
 
     def bounds_z(self) -> np.ndarray:
         """(d, 2) bounds in search units, for the optimiser."""
-        return np.stack([(self.lower - self.base) / self.scale,
-                         (self.upper - self.base) / self.scale], axis=1)
+        return np.stack(
+            [(self.lower - self.base) / self.scale, (self.upper - self.base) / self.scale], axis=1
+        )
 
     def describe(self, z: np.ndarray) -> dict[str, float]:
         """Parameter values by name (JSON-able)."""

@@ -26,11 +26,19 @@ from mimic.agents.base import Agent
 from mimic.errors import MimicError
 from mimic.improve.space import Space
 
-__all__ = ["Target", "MotionTarget", "ModelTarget", "ParamsTarget", "load_target",
-           "resolve_joints", "WALK_SEARCH"]
+__all__ = [
+    "Target",
+    "MotionTarget",
+    "ModelTarget",
+    "ParamsTarget",
+    "load_target",
+    "resolve_joints",
+    "WALK_SEARCH",
+]
 
 
 # --- candidate specs (what the trial episodes build agents from) -------------------------------
+
 
 @dataclass(frozen=True, eq=False)
 class MovementSpec:
@@ -45,12 +53,15 @@ class MovementSpec:
 
     def build(self) -> Agent:
         from mimic.agents.keyframe_player import KeyframePlayer
+
         return KeyframePlayer(self.movement)
 
     def ball_offset_m(self) -> tuple[float, float]:
         if self.movement.ball_offset_m is None:
-            raise MimicError(f"{self.label}: the motion has no 'ball_offset X Y' line; a kick "
-                             "objective needs one")
+            raise MimicError(
+                f"{self.label}: the motion has no 'ball_offset X Y' line; a kick "
+                "objective needs one"
+            )
         return tuple(float(v) for v in self.movement.ball_offset_m)
 
 
@@ -68,17 +79,21 @@ class ModelSpec:
 
     def build(self) -> Agent:
         from mimic.agents.neural_player import NeuralPlayer
+
         agent = NeuralPlayer(self.model)
         if self.balance:
             from mimic.agents.balance import BalancedAgent
+
             agent = BalancedAgent(agent)
         return agent
 
     def ball_offset_m(self) -> tuple[float, float]:
         offset = self.model.metadata.get("ball_offset_m")
         if offset is None:
-            raise MimicError(f"{self.label}: the model knows no ball offset (its recording "
-                             "was not of a kick); a kick objective needs one")
+            raise MimicError(
+                f"{self.label}: the model knows no ball offset (its recording "
+                "was not of a kick); a kick objective needs one"
+            )
         return (float(offset[0]), float(offset[1]))
 
 
@@ -93,6 +108,7 @@ class ParamsSpec:
 
     def build(self) -> Agent:
         from mimic.agents.params_file import build_engine
+
         return build_engine(self.agent, self.params)
 
     def ball_offset_m(self) -> tuple[float, float]:
@@ -104,6 +120,7 @@ class ParamsSpec:
 
 # --- targets -----------------------------------------------------------------------------------
 
+
 def resolve_joints(robot: str, joints: str) -> list[int]:
     """Joint indices for ``legs`` (hip, knee and ankle joints), ``all`` or a comma-separated
     list of names.
@@ -112,19 +129,25 @@ def resolve_joints(robot: str, joints: str) -> list[int]:
         MimicError: an unknown joint name (the message lists the robot's joints).
     """
     from mimic.robot.registry import get_robot
+
     desc = get_robot(robot)
     if joints == "all":
         return list(range(desc.num_joints))
     if joints == "legs":
-        return [i for i, n in enumerate(desc.joint_names)
-                if any(part in n.lower() for part in ("hip", "knee", "ankle"))]
+        return [
+            i
+            for i, n in enumerate(desc.joint_names)
+            if any(part in n.lower() for part in ("hip", "knee", "ankle"))
+        ]
     indices = []
     for name in (n.strip() for n in joints.split(",") if n.strip()):
         try:
             indices.append(desc.joint_index(name))
         except (KeyError, ValueError, MimicError):
-            raise MimicError(f"--joints: {robot} has no joint {name!r}; its joints: "
-                             f"{', '.join(desc.joint_names)} (or 'legs', 'all')") from None
+            raise MimicError(
+                f"--joints: {robot} has no joint {name!r}; its joints: "
+                f"{', '.join(desc.joint_names)} (or 'legs', 'all')"
+            ) from None
     if not indices:
         raise MimicError("--joints is empty; give 'legs', 'all' or joint names")
     return sorted(set(indices))
@@ -173,6 +196,7 @@ class MotionTarget(Target):
 
     def __init__(self, text: str, movement, joints: str = "legs") -> None:
         from mimic.robot.registry import get_robot
+
         robot = get_robot(movement.robot)
         self.movement, self.joints = movement, resolve_joints(movement.robot, joints)
         names, base, scale, lower, upper = [], [], [], [], []
@@ -201,24 +225,27 @@ class MotionTarget(Target):
 
     def movement_at(self, z: np.ndarray):
         from mimic.motion.keyframe import KeyframeStep, Movement
+
         v = self.space.values(z)
         n_steps, n_j = len(self.movement.steps), len(self.joints)
-        angles = v[:n_steps * n_j].reshape(n_steps, n_j)
-        times = v[n_steps * n_j:n_steps * n_j + n_steps]
+        angles = v[: n_steps * n_j].reshape(n_steps, n_j)
+        times = v[n_steps * n_j : n_steps * n_j + n_steps]
         steps = []
         for k, step in enumerate(self.movement.steps):
             a = np.array(step.angles_rad, dtype=float)
             a[self.joints] = angles[k]
             steps.append(KeyframeStep(a, float(times[k])))
         m = self.movement
-        return Movement(m.name, tuple(steps), float(v[-1]), m.ball_offset_m, m.start_posture,
-                        m.robot)
+        return Movement(
+            m.name, tuple(steps), float(v[-1]), m.ball_offset_m, m.start_posture, m.robot
+        )
 
     def spec(self, z, label=None):
         return MovementSpec(self.movement_at(z), label or f"{self.label} (improved)")
 
     def write(self, z, path, provenance):
         from mimic.motion.files import format_motion
+
         header = "".join(f"# {line}\n" for line in _provenance_lines(provenance))
         return _atomic_write(Path(path), header + format_motion(self.movement_at(z)))
 
@@ -238,22 +265,29 @@ class ModelTarget(Target):
         self.joints = resolve_joints(model.robot, joints)
         names = [model.joint_names[j] for j in self.joints]
         d = len(names)
-        space = Space(("time_rate", *(f"offset.{n}" for n in names),
-                       *(f"gain.{n}" for n in names)),
-                      base=[1.0, *[0.0] * d, *[1.0] * d],
-                      scale=[0.05, *[0.03] * d, *[0.05] * d],
-                      lower=[0.7, *[-0.25] * d, *[0.5] * d],
-                      upper=[1.4, *[0.25] * d, *[1.5] * d])
-        super().__init__(text, space, Path(text.removesuffix("+balance")).stem + " (learned)"
-                         + (" + balance" if balance else ""))
+        space = Space(
+            ("time_rate", *(f"offset.{n}" for n in names), *(f"gain.{n}" for n in names)),
+            base=[1.0, *[0.0] * d, *[1.0] * d],
+            scale=[0.05, *[0.03] * d, *[0.05] * d],
+            lower=[0.7, *[-0.25] * d, *[0.5] * d],
+            upper=[1.4, *[0.25] * d, *[1.5] * d],
+        )
+        super().__init__(
+            text,
+            space,
+            Path(text.removesuffix("+balance")).stem
+            + " (learned)"
+            + (" + balance" if balance else ""),
+        )
 
     def model_at(self, z: np.ndarray, provenance: dict | None = None):
         from mimic.improve.correction import corrected_model
+
         v = self.space.values(z)
         n, d = len(self.model.joint_names), len(self.joints)
         offsets, gains = np.zeros(n), np.ones(n)
-        offsets[self.joints] = v[1:1 + d]
-        gains[self.joints] = v[1 + d:1 + 2 * d]
+        offsets[self.joints] = v[1 : 1 + d]
+        gains[self.joints] = v[1 + d : 1 + 2 * d]
         return corrected_model(self.model, float(v[0]), offsets, gains, provenance=provenance)
 
     def spec(self, z, label=None):
@@ -264,6 +298,7 @@ class ModelTarget(Target):
 
     def write(self, z, path, provenance):
         from mimic.learn.model_file import save_model
+
         return save_model(self.model_at(z, provenance), Path(path))
 
 
@@ -302,6 +337,7 @@ def _get(params, path: str) -> float:
 
 def _set(params, path: str, value: float):
     import dataclasses
+
     head, _, rest = path.partition(".")
     if not rest:
         return dataclasses.replace(params, **{head: value})
@@ -331,14 +367,16 @@ class ParamsTarget(Target):
         return params
 
     def spec(self, z, label=None):
-        return ParamsSpec(self.agent, self.params_at(z), label or f"{self.label} (improved)",
-                          self.robot)
+        return ParamsSpec(
+            self.agent, self.params_at(z), label or f"{self.label} (improved)", self.robot
+        )
 
     def baseline(self):
         return ParamsSpec(self.agent, self.params, self.label, self.robot)
 
     def write(self, z, path, provenance):
         from mimic.agents.params_file import save_params
+
         return save_params(self.agent, self.params_at(z), Path(path), provenance)
 
 
@@ -366,15 +404,19 @@ def load_target(text: str, *, joints: str = "legs", robot: str = "nao") -> Targe
     spec = agent_spec(text, robot=robot)
     if spec.kind == "motion":
         from mimic.motion.files import load_motion
+
         return MotionTarget(text, load_motion(spec.ref, spec.robot), joints)
     if spec.kind == "model":
         from mimic.learn.model_file import load_model
+
         return ModelTarget(text, load_model(spec.ref), spec.balance, joints)
     if spec.kind == "params":
         agent, params = load_params(spec.ref)
         return ParamsTarget(text, agent, params, spec.robot)
     if spec.ref in PARAM_ENGINES and spec.ref in ENGINE_SEARCH:
         return ParamsTarget(text, spec.ref, default_params(spec.ref), spec.robot)
-    raise MimicError(f"cannot improve {text!r}: it has no parameters to search; targets: a "
-                     "keyframe motion (name or .txt), a learned model (.mimic), "
-                     f"{', '.join(ENGINE_SEARCH)} or a .json parameter file")
+    raise MimicError(
+        f"cannot improve {text!r}: it has no parameters to search; targets: a "
+        "keyframe motion (name or .txt), a learned model (.mimic), "
+        f"{', '.join(ENGINE_SEARCH)} or a .json parameter file"
+    )

@@ -39,14 +39,23 @@ def held_out_episodes(seed: int, episodes: int, search_episodes: list[int]) -> r
     seen = {derive_seed(seed, i) for i in search_episodes}
     repeated = [i for i in indices if derive_seed(seed, i) in seen]
     if repeated:
-        raise MimicError(f"validation episode seeds repeat search seeds ({len(repeated)}); "
-                         "use another --seed")
+        raise MimicError(
+            f"validation episode seeds repeat search seeds ({len(repeated)}); use another --seed"
+        )
     return indices
 
 
-def validate(specs: list, objective, *, seed: int, episodes: int, executor: Executor,
-             search_episodes: list[int], trace_label: str | None = None,
-             progress: Callable | None = None) -> TrialResult:
+def validate(
+    specs: list,
+    objective,
+    *,
+    seed: int,
+    episodes: int,
+    executor: Executor,
+    search_episodes: list[int],
+    trace_label: str | None = None,
+    progress: Callable | None = None,
+) -> TrialResult:
     """Play ``episodes`` held-out trial episodes of every spec (the first heads the ratios).
 
     ``trace_label``: keep that variant's first episode as a pose trace (the 3D replay).
@@ -54,17 +63,23 @@ def validate(specs: list, objective, *, seed: int, episodes: int, executor: Exec
     indices = held_out_episodes(seed, episodes, search_episodes)
     frames, rows, traces = [], [], {}
     for spec in specs:
-        batch = run_episodes(objective.episode_fn, spec, objective.trial_config,
-                             episodes=episodes, seed=seed, executor=executor,
-                             first_episode=indices.start,
-                             trace_episodes=1 if spec.label == trace_label else 0,
-                             progress=(lambda b, s=spec: progress(s.label, b)) if progress
-                             else None)
+        batch = run_episodes(
+            objective.episode_fn,
+            spec,
+            objective.trial_config,
+            episodes=episodes,
+            seed=seed,
+            executor=executor,
+            first_episode=indices.start,
+            trace_episodes=1 if spec.label == trace_label else 0,
+            progress=(lambda b, s=spec: progress(s.label, b)) if progress else None,
+        )
         if batch.traces:
             traces[spec.label] = next(iter(batch.traces.values()))
         rows.append(objective.summarise(spec.label, batch))
         if batch.rows:
-            frames.append(pl.DataFrame(batch.rows).with_columns(pl.lit(spec.label)
-                                                                .alias("variant")))
+            frames.append(
+                pl.DataFrame(batch.rows).with_columns(pl.lit(spec.label).alias("variant"))
+            )
     table = pl.concat(frames, how="diagonal_relaxed") if frames else pl.DataFrame()
     return TrialResult(objective.name, table, with_ratios(pl.DataFrame(rows)), traces=traces)

@@ -12,5 +12,19 @@
 Everything is imported on first use (``from mimic.league.world import LeagueWorld``).
 """
 
-__all__ = ["server", "protocol", "names", "client", "monitor", "rsmp", "decode", "world",
-           "play", "blackbox", "game_log", "player_writer", "errors", "sigint"]
+__all__ = [
+    "server",
+    "protocol",
+    "names",
+    "client",
+    "monitor",
+    "rsmp",
+    "decode",
+    "world",
+    "play",
+    "blackbox",
+    "game_log",
+    "player_writer",
+    "errors",
+    "sigint",
+]

@@ -21,13 +21,19 @@ from mimic.league.monitor import MonitorClient
 from mimic.league.player_writer import PlayerWriter
 from mimic.league.protocol import parse_address
 from mimic.league.rsmp import PlayerNode, SceneState
-from mimic.sigint import SigintFlag
 from mimic.robot.league import LEAGUE_ROBOTS
 from mimic.robot.model import RobotDescription
 from mimic.robot.registry import get_robot
+from mimic.sigint import SigintFlag
 
-__all__ = ["record_player", "list_players", "BlackBoxResult", "describe_players",
-           "robot_of", "DEFAULT_LEAGUE_ROBOT"]
+__all__ = [
+    "record_player",
+    "list_players",
+    "BlackBoxResult",
+    "describe_players",
+    "robot_of",
+    "DEFAULT_LEAGUE_ROBOT",
+]
 
 #: The robot a player is taken to be when the scene graph does not say.
 DEFAULT_LEAGUE_ROBOT = "t1"
@@ -69,15 +75,16 @@ def describe_players(players: tuple[PlayerNode, ...]) -> str:
     return ", ".join(f"{p.team} #{p.player} ({p.model or '?'})" for p in players) or "nobody"
 
 
-def robot_of(node: PlayerNode, robot: str | RobotDescription | None,
-             who: str) -> RobotDescription:
+def robot_of(node: PlayerNode, robot: str | RobotDescription | None, who: str) -> RobotDescription:
     """The robot to decode a player as: the scene graph's model, checked against ``robot``
     (an option); ``DEFAULT_LEAGUE_ROBOT`` when neither says."""
     if robot is None:
         name = robot_for_model(node.model) if node.model else DEFAULT_LEAGUE_ROBOT
         if name not in LEAGUE_ROBOTS:
-            raise LeagueError(f"{who} is a {node.model} robot, which mimic does not know; "
-                              f"league robots: {', '.join(LEAGUE_ROBOTS)}")
+            raise LeagueError(
+                f"{who} is a {node.model} robot, which mimic does not know; "
+                f"league robots: {', '.join(LEAGUE_ROBOTS)}"
+            )
         return get_robot(name)
     name = robot.name if isinstance(robot, RobotDescription) else robot.lower()
     check_model(name, node.model, who)  # before loading a robot we would not use
@@ -89,9 +96,11 @@ def _first_scene(monitor: MonitorClient, timeout_s: float) -> SceneState:
     while not monitor.state.valid:
         left = deadline - time.monotonic()
         if left <= 0 or not monitor.read(timeout_s=left):
-            raise LeagueConnectionError(f"no scene from {monitor.where} within "
-                                        f"{timeout_s:g} s: is it the server's monitor port "
-                                        "(rcssservermj --mport)?")
+            raise LeagueConnectionError(
+                f"no scene from {monitor.where} within "
+                f"{timeout_s:g} s: is it the server's monitor port "
+                "(rcssservermj --mport)?"
+            )
     return monitor.state
 
 
@@ -101,10 +110,18 @@ def list_players(monitor_address: str, timeout_s: float = 10.0) -> tuple[PlayerN
         return _first_scene(monitor, timeout_s).players
 
 
-def record_player(monitor_address: str, out_path: str | Path, team: str, player: int, *,
-                  seconds: float | None = None, robot: str | None = None,
-                  wait_s: float = 30.0, on_wait: Callable[[str], None] | None = None,
-                  progress: Progress | None = None) -> BlackBoxResult:
+def record_player(
+    monitor_address: str,
+    out_path: str | Path,
+    team: str,
+    player: int,
+    *,
+    seconds: float | None = None,
+    robot: str | None = None,
+    wait_s: float = 30.0,
+    on_wait: Callable[[str], None] | None = None,
+    progress: Progress | None = None,
+) -> BlackBoxResult:
     """Record ``team`` #``player`` from a server's monitor stream into ``out_path``.
 
     Args:
@@ -123,8 +140,10 @@ def record_player(monitor_address: str, out_path: str | Path, team: str, player:
     if seconds is not None and not seconds > 0:
         raise LeagueError(f"--seconds must be > 0, got {seconds}")
     who = f"{team} #{player}"
-    with SigintFlag() as sigint, \
-            MonitorClient(*parse_address(monitor_address, "--server")) as monitor:
+    with (
+        SigintFlag() as sigint,
+        MonitorClient(*parse_address(monitor_address, "--server")) as monitor,
+    ):
         state = _first_scene(monitor, max(wait_s, 10.0))
         node = _await_player(monitor, team, player, wait_s, on_wait, sigint)
         decoder = PlayerDecoder(robot_of(node, robot, who))
@@ -137,14 +156,24 @@ def record_player(monitor_address: str, out_path: str | Path, team: str, player:
                 if sample is not None:
                     t_seen = sample.time_s
                     if out is None:
-                        out = PlayerWriter(out_path, decoder.robot, team, player, "monitor",
-                                           monitor_address, sample.time_s)
+                        out = PlayerWriter(
+                            out_path,
+                            decoder.robot,
+                            team,
+                            player,
+                            "monitor",
+                            monitor_address,
+                            sample.time_s,
+                        )
                     if seconds is not None and out.elapsed_s(sample) > seconds + 1e-6:
                         break
                     if out.write(sample, state.ball_pos_m()) and progress is not None:
                         progress(out.duration_s, seconds)
-                elif state.player(team, player) is None and state.valid and \
-                        state.time_s - t_seen > _GONE_S:
+                elif (
+                    state.player(team, player) is None
+                    and state.valid
+                    and state.time_s - t_seen > _GONE_S
+                ):
                     reason = f"{who} left the field"
                     break
                 try:
@@ -160,11 +189,21 @@ def record_player(monitor_address: str, out_path: str | Path, team: str, player:
         if out is None:  # nothing written, no file
             if reason.startswith("interrupted"):
                 raise KeyboardInterrupt
-            raise LeagueError(f"{reason} before {who} showed a whole "
-                              f"{decoder.robot.name.upper()} pose: nothing recorded")
-        return BlackBoxResult(out.path, decoder.robot.name, team, player, out.samples,
-                              out.duration_s, not _normal_end(reason), reason,
-                              state.skipped - skipped_before)
+            raise LeagueError(
+                f"{reason} before {who} showed a whole "
+                f"{decoder.robot.name.upper()} pose: nothing recorded"
+            )
+        return BlackBoxResult(
+            out.path,
+            decoder.robot.name,
+            team,
+            player,
+            out.samples,
+            out.duration_s,
+            not _normal_end(reason),
+            reason,
+            state.skipped - skipped_before,
+        )
 
 
 def _normal_end(reason: str) -> bool:
@@ -172,8 +211,14 @@ def _normal_end(reason: str) -> bool:
     return reason == "done" or reason.endswith("left the field")
 
 
-def _await_player(monitor: MonitorClient, team: str, player: int, wait_s: float,
-                  on_wait: Callable[[str], None] | None, sigint: SigintFlag) -> PlayerNode:
+def _await_player(
+    monitor: MonitorClient,
+    team: str,
+    player: int,
+    wait_s: float,
+    on_wait: Callable[[str], None] | None,
+    sigint: SigintFlag,
+) -> PlayerNode:
     who = f"{team} #{player}"
     deadline = time.monotonic() + wait_s
     next_message = time.monotonic() + _FIRST_WAIT_MESSAGE_S  # a quick look says nothing
@@ -183,10 +228,14 @@ def _await_player(monitor: MonitorClient, team: str, player: int, wait_s: float,
             return found
         now = time.monotonic()
         if now >= deadline or sigint.raised:
-            raise PlayerNotFoundError(f"{who} is not on the field of {monitor.where}; on the "
-                                      f"field: {describe_players(monitor.state.players)}")
+            raise PlayerNotFoundError(
+                f"{who} is not on the field of {monitor.where}; on the "
+                f"field: {describe_players(monitor.state.players)}"
+            )
         if on_wait is not None and now >= next_message:
-            on_wait(f"waiting for {who} to join (on the field: "
-                    f"{describe_players(monitor.state.players)})")
+            on_wait(
+                f"waiting for {who} to join (on the field: "
+                f"{describe_players(monitor.state.players)})"
+            )
             next_message = now + _WAIT_MESSAGE_EVERY_S
         monitor.read(timeout_s=min(0.5, max(0.01, deadline - now)))

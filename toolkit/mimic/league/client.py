@@ -100,11 +100,21 @@ def parse_perception(message: bytes, robot: RobotDescription, names: WireNames) 
             mode = pm[1].decode() if pm else ""
     if np.isnan(angles).any():
         missing = [robot.joint_names[i] for i in np.nonzero(np.isnan(angles))[0]]
-        raise LeagueError(f"the server's perceptions lack {len(missing)} {robot.name} joints "
-                          f"({', '.join(missing[:3])}...): is the player another robot?")
+        raise LeagueError(
+            f"the server's perceptions lack {len(missing)} {robot.name} joints "
+            f"({', '.join(missing[:3])}...): is the player another robot?"
+        )
     norm = float(np.linalg.norm(quat))
-    return Perception(time_s, angles, speeds, gyro, acc,
-                      quat / norm if norm > 0 else np.array([1.0, 0, 0, 0]), pos, mode)
+    return Perception(
+        time_s,
+        angles,
+        speeds,
+        gyro,
+        acc,
+        quat / norm if norm > 0 else np.array([1.0, 0, 0, 0]),
+        pos,
+        mode,
+    )
 
 
 def format_command(command: JointCommand, robot: RobotDescription, names: WireNames) -> bytes:
@@ -112,11 +122,13 @@ def format_command(command: JointCommand, robot: RobotDescription, names: WireNa
     motors = robot.actuator
     if not isinstance(motors, PDMotors):
         raise LeagueError(f"the {robot.name} has {motors.kind}; league robots have PD motors")
-    target = np.degrees(robot.check_vector(motors.targets(command, robot.name.upper()),
-                                           "joint command"))
+    target = np.degrees(
+        robot.check_vector(motors.targets(command, robot.name.upper()), "joint command")
+    )
     kp, kd = motors.kp_nm_rad, motors.kd_nm_s_rad
-    return "".join(f"({e} {q:.4f} 0 {p:g} {d:g} 0)"
-                   for e, q, p, d in zip(names.effectors, target, kp, kd)).encode()
+    return "".join(
+        f"({e} {q:.4f} 0 {p:g} {d:g} 0)" for e, q, p, d in zip(names.effectors, target, kp, kd)
+    ).encode()
 
 
 class AgentClient:
@@ -128,8 +140,9 @@ class AgentClient:
         team: team name; player: shirt number (1-99).
     """
 
-    def __init__(self, robot: RobotDescription, host: str, port: int, team: str,
-                 player: int) -> None:
+    def __init__(
+        self, robot: RobotDescription, host: str, port: int, team: str, player: int
+    ) -> None:
         self.robot, self.team, self.player = robot, team, player
         self.names = wire_names(robot)
         if not 0 < player < 100:
@@ -139,8 +152,7 @@ class AgentClient:
         self._conn: Connection = connect(host, port, "agent port")
         self._conn.send(f"(init {self.names.model_name} {team} {player})".encode())
 
-    def receive(self, *, latest: bool = False,
-                timeout_s: float | None = None) -> Perception:
+    def receive(self, *, latest: bool = False, timeout_s: float | None = None) -> Perception:
         """The next perception (``latest``: skip to the newest one that has arrived).
 
         Raises:
@@ -152,16 +164,20 @@ class AgentClient:
         except LeagueConnectionError:
             raise LeagueConnectionError(
                 f"the server at {self._conn.where} closed the connection of {self.team} "
-                f"#{self.player} (server stopped, number taken, or team full)") from None
+                f"#{self.player} (server stopped, number taken, or team full)"
+            ) from None
         if message is None:
-            raise LeagueConnectionError(f"no perception from {self._conn.where} within "
-                                        f"{timeout_s:g} s")
+            raise LeagueConnectionError(
+                f"no perception from {self._conn.where} within {timeout_s:g} s"
+            )
         if latest:
             newer = self._conn.receive_available()
             message = newer[-1] if newer else message
         if is_rsmp(message[:16]):
-            raise LeagueConnectionError(f"{self._conn.where} is a monitor port; a player "
-                                        "connects to the agent port (rcssservermj --aport)")
+            raise LeagueConnectionError(
+                f"{self._conn.where} is a monitor port; a player "
+                "connects to the agent port (rcssservermj --aport)"
+            )
         return parse_perception(message, self.robot, self.names)
 
     def send(self, command: JointCommand) -> None:

@@ -33,8 +33,7 @@ from mimic.league.rsmp import SceneNode, SceneState, slt_matrix
 from mimic.robot.model import RobotDescription
 from mimic.world.league_field import league_air
 
-__all__ = ["PlayerDecoder", "PlayerSample", "robot_for_model", "check_model",
-           "OFFSET_TOLERANCE_M"]
+__all__ = ["PlayerDecoder", "PlayerSample", "robot_for_model", "check_model", "OFFSET_TOLERANCE_M"]
 
 #: How far a child body's decoded offset from its parent may be from the description's [m]
 #: (the stream rounds to 0.1 mm).
@@ -100,13 +99,15 @@ class PlayerDecoder:
         links = robot.links
         index = {link.name: i for i, link in enumerate(links)}
         #: child link indices of each link, in body order
-        self._children = [[j for j, c in enumerate(links) if c.parent == link.name]
-                          for link in links]
+        self._children = [
+            [j for j, c in enumerate(links) if c.parent == link.name] for link in links
+        ]
         self._offsets = np.array([link.pos_m for link in links])
         #: per joint: child link index, R(q0)^T, axis, limits
         self._joint_link = np.array([index[j.child_link] for j in robot.joints])
-        self._rest_inv = np.array([_mat(links[index[j.child_link]].quat_wxyz).T
-                                   for j in robot.joints])
+        self._rest_inv = np.array(
+            [_mat(links[index[j.child_link]].quat_wxyz).T for j in robot.joints]
+        )
         self._axes = np.array([j.axis for j in robot.joints], dtype=float)
 
     def decode(self, dsc: SceneNode, time_s: float) -> PlayerSample | None:
@@ -120,7 +121,7 @@ class PlayerDecoder:
             node = nodes[i]
             if node is None or len(node.children) < len(kids):
                 return None
-            for child, sub in zip(kids, node.children[len(node.children) - len(kids):]):
+            for child, sub in zip(kids, node.children[len(node.children) - len(kids) :]):
                 nodes[child] = sub
         if any(n is None or n.slt is None for n in nodes):
             return None
@@ -135,8 +136,9 @@ class PlayerDecoder:
     def _angles(self, rots: np.ndarray) -> np.ndarray:
         r = np.einsum("nij,njk->nik", self._rest_inv, rots[self._joint_link])  # (N, 3, 3)
         a = self._axes
-        vee = np.stack([r[:, 2, 1] - r[:, 1, 2], r[:, 0, 2] - r[:, 2, 0],
-                        r[:, 1, 0] - r[:, 0, 1]], axis=1)
+        vee = np.stack(
+            [r[:, 2, 1] - r[:, 1, 2], r[:, 0, 2] - r[:, 2, 0], r[:, 1, 0] - r[:, 0, 1]], axis=1
+        )
         sin = 0.5 * np.einsum("ni,ni->n", vee, a)
         cos = 0.5 * (np.trace(r, axis1=1, axis2=2) - np.einsum("ni,nij,nj->n", a, r, a))
         angles = np.arctan2(sin, cos)
@@ -166,5 +168,7 @@ def check_model(robot: str, model: str, who: str) -> None:
     """Refuse, in one line, decoding a ``model`` robot (as the scene graph names it) as the
     registry's ``robot``."""
     if model and robot_for_model(model) != robot:
-        raise LeagueError(f"{who} is a {model} robot, not a {robot.upper()}; leave out "
-                          f"--robot (or pass --robot {robot_for_model(model)})")
+        raise LeagueError(
+            f"{who} is a {model} robot, not a {robot.upper()}; leave out "
+            f"--robot (or pass --robot {robot_for_model(model)})"
+        )

@@ -4,8 +4,13 @@ from __future__ import annotations
 
 from mimic.errors import MimicError
 
-__all__ = ["LeagueError", "LeagueConnectionError", "ServerStartError", "PlayerNotFoundError",
-           "GameLogError"]
+__all__ = [
+    "LeagueError",
+    "LeagueConnectionError",
+    "ServerStartError",
+    "PlayerNotFoundError",
+    "GameLogError",
+]
 
 
 class LeagueError(MimicError):

@@ -17,8 +17,7 @@ from mimic.league.errors import GameLogError, LeagueError, PlayerNotFoundError
 from mimic.league.player_writer import PlayerWriter
 from mimic.league.rsmp import PlayerNode, SceneState, is_rsmp
 
-__all__ = ["is_game_log", "read_frames", "import_game_log", "import_game_log_all",
-           "log_players"]
+__all__ = ["is_game_log", "read_frames", "import_game_log", "import_game_log_all", "log_players"]
 
 _HEAD_BYTES = 64
 
@@ -42,9 +41,11 @@ def read_frames(path: str | Path) -> Iterator[bytes]:
     if not path.is_file():
         raise GameLogError(f"{path}: no such file")
     if not is_game_log(path):
-        raise GameLogError(f"{path} is not an RCSSServerMJ game log (it does not start with "
-                           "an RSMP frame, '((RSMP 1 0)...'); write one with "
-                           "'rcssservermj --logfile FILE'")
+        raise GameLogError(
+            f"{path} is not an RCSSServerMJ game log (it does not start with "
+            "an RSMP frame, '((RSMP 1 0)...'); write one with "
+            "'rcssservermj --logfile FILE'"
+        )
     with open(path, "rb") as f:
         for line in f:
             if line.strip():
@@ -70,8 +71,9 @@ def log_players(path: str | Path) -> tuple[PlayerNode, ...]:
     return tuple(sorted(seen.values(), key=lambda p: (p.team, p.player)))
 
 
-def import_game_log(log_path: str | Path, out_path: str | Path, team: str, player: int, *,
-                    robot: str | None = None) -> BlackBoxResult:
+def import_game_log(
+    log_path: str | Path, out_path: str | Path, team: str, player: int, *, robot: str | None = None
+) -> BlackBoxResult:
     """Write ``team`` #``player`` of a game log as a recording.
 
     Raises:
@@ -80,13 +82,16 @@ def import_game_log(log_path: str | Path, out_path: str | Path, team: str, playe
     """
     results = _import(log_path, {(team, player): Path(out_path)}, robot)
     if not results:
-        raise PlayerNotFoundError(f"{team} #{player} is not in {log_path}; players in it: "
-                                  f"{describe_players(log_players(log_path))}")
+        raise PlayerNotFoundError(
+            f"{team} #{player} is not in {log_path}; players in it: "
+            f"{describe_players(log_players(log_path))}"
+        )
     return results[0]
 
 
-def import_game_log_all(log_path: str | Path, out_dir: str | Path, *,
-                        robot: str | None = None) -> list[BlackBoxResult]:
+def import_game_log_all(
+    log_path: str | Path, out_dir: str | Path, *, robot: str | None = None
+) -> list[BlackBoxResult]:
     """One recording per player of a game log: ``OUT_DIR/TEAM_N.mcap``.
 
     Raises:
@@ -94,16 +99,16 @@ def import_game_log_all(log_path: str | Path, out_dir: str | Path, *,
     """
     out_dir = Path(out_dir)
     if out_dir.exists() and not out_dir.is_dir():
-        raise GameLogError(f"--all writes one file per player into a folder; {out_dir} is a "
-                           "file")
+        raise GameLogError(f"--all writes one file per player into a folder; {out_dir} is a file")
     results = _import(log_path, out_dir, robot)
     if not results:
         raise GameLogError(f"{log_path} holds no players")
     return results
 
 
-def _import(log_path, outputs: dict[tuple[str, int], Path] | Path,
-            robot: str | None) -> list[BlackBoxResult]:
+def _import(
+    log_path, outputs: dict[tuple[str, int], Path] | Path, robot: str | None
+) -> list[BlackBoxResult]:
     """One pass over the log; ``outputs``: the players wanted and their files, or a folder
     for every player."""
     decoders: dict[tuple[str, int], PlayerDecoder] = {}
@@ -136,8 +141,14 @@ def _import(log_path, outputs: dict[tuple[str, int], Path] | Path,
                     skipped[key] += 1
                     continue
                 if key not in writers:
-                    writers[key] = PlayerWriter(_output(outputs, key), decoders[key].robot,
-                                                *key, "game_log", str(log_path), sample.time_s)
+                    writers[key] = PlayerWriter(
+                        _output(outputs, key),
+                        decoders[key].robot,
+                        *key,
+                        "game_log",
+                        str(log_path),
+                        sample.time_s,
+                    )
                 writers[key].write(sample, state.ball_pos_m())
     except BaseException:
         for writer in writers.values():
@@ -146,9 +157,19 @@ def _import(log_path, outputs: dict[tuple[str, int], Path] | Path,
     results = []
     for (team, number), writer in writers.items():
         writer.finish(interrupted=False, reason="end of log")
-        results.append(BlackBoxResult(writer.path, writer.robot.name, team, number,
-                                      writer.samples, writer.duration_s, False, "end of log",
-                                      skipped[(team, number)]))
+        results.append(
+            BlackBoxResult(
+                writer.path,
+                writer.robot.name,
+                team,
+                number,
+                writer.samples,
+                writer.duration_s,
+                False,
+                "end of log",
+                skipped[(team, number)],
+            )
+        )
     return results
 
 

@@ -24,15 +24,19 @@ def _num(v: float) -> str:
 
 def place_player_command(team: str, player: int, pos_m, quat_wxyz=None) -> bytes:
     """``(agent (unum N)(team T)(pos X Y Z))``, with ``move3d`` when an orientation is given."""
-    where = (f"(pos {' '.join(map(_num, pos_m))})" if quat_wxyz is None else
-             f"(move3d {' '.join(map(_num, (*pos_m, *quat_wxyz)))})")
+    where = (
+        f"(pos {' '.join(map(_num, pos_m))})"
+        if quat_wxyz is None
+        else f"(move3d {' '.join(map(_num, (*pos_m, *quat_wxyz)))})"
+    )
     return f"(agent (unum {player})(team {team}){where})".encode()
 
 
 def place_ball_command(pos_m, vel_m_s=(0.0, 0.0, 0.0)) -> bytes:
     """``(ball (pos X Y Z)(vel VX VY VZ))``."""
-    return (f"(ball (pos {' '.join(map(_num, pos_m))})"
-            f"(vel {' '.join(map(_num, vel_m_s))}))").encode()
+    return (
+        f"(ball (pos {' '.join(map(_num, pos_m))})(vel {' '.join(map(_num, vel_m_s))}))"
+    ).encode()
 
 
 class MonitorClient:

@@ -43,8 +43,9 @@ class WireNames:
 def wire_names(robot: RobotDescription) -> WireNames:
     """The wire names of a league robot (one read from an MJCF file)."""
     if robot.mjcf_path is None:
-        raise LeagueError(f"the {robot.name} is not a league robot (it has no MJCF file); "
-                          "league robots: t1, k1")
+        raise LeagueError(
+            f"the {robot.name} is not a league robot (it has no MJCF file); league robots: t1, k1"
+        )
     return _wire_names(robot)
 
 
@@ -56,13 +57,15 @@ def _wire_names(robot: RobotDescription) -> WireNames:
         if m.actuator_trntype[a] != mujoco.mjtTrn.mjTRN_JOINT:
             continue
         name, joint = m.actuator(a).name, m.joint(int(m.actuator_trnid[a, 0])).name
-        base = next((name[:-len(s)] for s in ACTUATOR_SUFFIXES if name.endswith(s)), name)
+        base = next((name[: -len(s)] for s in ACTUATOR_SUFFIXES if name.endswith(s)), name)
         by_joint.setdefault(joint, base)
     missing = [j for j in robot.joint_names if j not in by_joint]
     if missing:
         raise LeagueError(f"{robot.mjcf_path}: no actuator drives {', '.join(missing)}")
-    sensors: dict[int, dict[str, str]] = {mujoco.mjtSensor.mjSENS_JOINTPOS: {},
-                                          mujoco.mjtSensor.mjSENS_JOINTVEL: {}}
+    sensors: dict[int, dict[str, str]] = {
+        mujoco.mjtSensor.mjSENS_JOINTPOS: {},
+        mujoco.mjtSensor.mjSENS_JOINTVEL: {},
+    }
     for s in range(m.nsensor):
         kind = int(m.sensor_type[s])
         if kind in sensors:

@@ -23,10 +23,10 @@ from mimic import __version__
 from mimic.agents.base import Agent
 from mimic.episode import Observer, Scene, run
 from mimic.league.errors import LeagueConnectionError, LeagueError
-from mimic.sigint import SigintFlag
 from mimic.league.world import LeagueWorld, LeagueWorldConfig
 from mimic.recording import layout as L
 from mimic.recording.writer import RecordingWriter
+from mimic.sigint import SigintFlag
 from mimic.world.base import CYCLE_S
 
 __all__ = ["play", "PlayResult", "PlayRecorder", "MAX_PLAY_S"]
@@ -72,11 +72,18 @@ class PlayRecorder(Observer):
         self.samples, self.t_last_s = self.samples + 1, t_ns / L.NS_PER_S
 
 
-def play(agent: str | Agent, *, robot: str = "t1", agent_address: str | None = None,
-         team: str = "mimic", player: int = 1, seconds: float | None = None,
-         out_path: str | Path | None = None,
-         progress: Callable[[float, float | None], None] | None = None,
-         settle_s: float = 0.5) -> PlayResult:
+def play(
+    agent: str | Agent,
+    *,
+    robot: str = "t1",
+    agent_address: str | None = None,
+    team: str = "mimic",
+    player: int = 1,
+    seconds: float | None = None,
+    out_path: str | Path | None = None,
+    progress: Callable[[float, float | None], None] | None = None,
+    settle_s: float = 0.5,
+) -> PlayResult:
     """Play ``agent`` (a spec for ``make_agent`` or an Agent) as ``team`` #``player``.
 
     Args:
@@ -100,13 +107,21 @@ def play(agent: str | Agent, *, robot: str = "t1", agent_address: str | None = N
 
     agent.check_robot(get_robot(robot))
     config = LeagueWorldConfig(team=team, player=player)
-    with SigintFlag() as sigint, LeagueWorld(robot, agent_address=agent_address,
-                                             config=config) as world:
+    with (
+        SigintFlag() as sigint,
+        LeagueWorld(robot, agent_address=agent_address, config=config) as world,
+    ):
         if world.server is not None:
-            Scene(robot_xy_m=HOSTED_START_XY_M, posture=agent.start_posture,
-                  settle_s=settle_s).setup(world, np.random.default_rng(0))
-        writer = None if out_path is None else RecordingWriter(
-            out_path, _info(agent, world, agent_address), urdf=world.robot.urdf())
+            Scene(
+                robot_xy_m=HOSTED_START_XY_M, posture=agent.start_posture, settle_s=settle_s
+            ).setup(world, np.random.default_rng(0))
+        writer = (
+            None
+            if out_path is None
+            else RecordingWriter(
+                out_path, _info(agent, world, agent_address), urdf=world.robot.urdf()
+            )
+        )
         recorder = None if writer is None else PlayRecorder(writer)
         planned_s = seconds
         watchers: list[Observer] = [] if recorder is None else [recorder]
@@ -114,27 +129,43 @@ def play(agent: str | Agent, *, robot: str = "t1", agent_address: str | None = N
             watchers.append(_Progress(progress, planned_s))
         end, cycles = "error", 0
         try:
-            outcome = run(world, agent, max_s=seconds or MAX_PLAY_S, observers=watchers,
-                          stop=lambda w: sigint.raised, stop_when_done=seconds is None)
+            outcome = run(
+                world,
+                agent,
+                max_s=seconds or MAX_PLAY_S,
+                observers=watchers,
+                stop=lambda w: sigint.raised,
+                stop_when_done=seconds is None,
+            )
             end = {"stop": "interrupted"}.get(outcome.end, outcome.end)
             cycles = outcome.cycles
         except LeagueConnectionError:
             end = "server stopped"  # keep what was recorded
         finally:
             if writer is not None:
-                writer.finish(interrupted=end not in ("done", "timeout", "fell"),
-                              samples=recorder.samples, end=end)
+                writer.finish(
+                    interrupted=end not in ("done", "timeout", "fell"),
+                    samples=recorder.samples,
+                    end=end,
+                )
         duration = recorder.t_last_s if recorder is not None else cycles * CYCLE_S
         return PlayResult(end, cycles, duration, None if out_path is None else Path(out_path))
 
 
 def _info(agent: Agent, world: LeagueWorld, agent_address: str | None) -> L.RecordingInfo:
     return L.RecordingInfo(
-        motion=agent.name, agent=type(agent).__name__, team=world.team,
-        source="reference" if agent.team == "mimic" else "observed", robot=world.robot.name,
-        world="league", joint_order=world.robot.joint_names, toolkit_version=__version__,
-        period_s=agent.period_s, start_posture=agent.start_posture,
-        extra={"player": str(world.player), "server": agent_address or "hosted"})
+        motion=agent.name,
+        agent=type(agent).__name__,
+        team=world.team,
+        source="reference" if agent.team == "mimic" else "observed",
+        robot=world.robot.name,
+        world="league",
+        joint_order=world.robot.joint_names,
+        toolkit_version=__version__,
+        period_s=agent.period_s,
+        start_posture=agent.start_posture,
+        extra={"player": str(world.player), "server": agent_address or "hosted"},
+    )
 
 
 class _Progress(Observer):

@@ -39,18 +39,34 @@ class PlayerWriter:
         start_time_s: server time of the first sample [s] (t = 0 in the recording).
     """
 
-    def __init__(self, path: str | Path, robot: RobotDescription, team: str, player: int,
-                 source: str, origin: str, start_time_s: float,
-                 flush_period_s: float = FLUSH_PERIOD_S) -> None:
+    def __init__(
+        self,
+        path: str | Path,
+        robot: RobotDescription,
+        team: str,
+        player: int,
+        source: str,
+        origin: str,
+        start_time_s: float,
+        flush_period_s: float = FLUSH_PERIOD_S,
+    ) -> None:
         self.robot = robot
         info = L.RecordingInfo(
-            motion=f"{team}_{player}", agent="league player", team=team, source=source,
-            robot=robot.name, world="league", joint_order=robot.joint_names,
+            motion=f"{team}_{player}",
+            agent="league player",
+            team=team,
+            source=source,
+            robot=robot.name,
+            world="league",
+            joint_order=robot.joint_names,
             toolkit_version=__version__,
-            extra={"player": str(player), "origin": origin,
-                   "start_server_time_s": f"{start_time_s:.3f}"})
-        self.writer = RecordingWriter(path, info, urdf=robot.urdf(),
-                                      flush_period_s=flush_period_s)
+            extra={
+                "player": str(player),
+                "origin": origin,
+                "start_server_time_s": f"{start_time_s:.3f}",
+            },
+        )
+        self.writer = RecordingWriter(path, info, urdf=robot.urdf(), flush_period_s=flush_period_s)
         self.path = Path(path)
         self.children = [link.name for link in robot.links] + [L.BALL_FRAME]
         self.parents = [link.parent or L.WORLD_FRAME for link in robot.links] + [L.WORLD_FRAME]
@@ -93,5 +109,6 @@ class PlayerWriter:
         return self
 
     def __exit__(self, exc_type, exc, tb) -> None:
-        self.finish(interrupted=exc_type is not None,
-                    reason="error" if exc_type is not None else "done")
+        self.finish(
+            interrupted=exc_type is not None, reason="error" if exc_type is not None else "done"
+        )

@@ -16,8 +16,7 @@ import time
 
 from mimic.league.errors import LeagueConnectionError
 
-__all__ = ["Connection", "connect", "parse_sexp", "parse_address", "Sexp",
-           "LENGTH_PREFIX_BYTES"]
+__all__ = ["Connection", "connect", "parse_sexp", "parse_address", "Sexp", "LENGTH_PREFIX_BYTES"]
 
 #: Bytes of the big-endian message length before every message.
 LENGTH_PREFIX_BYTES = 4
@@ -60,8 +59,9 @@ def parse_address(text: str, what: str) -> tuple[str, int]:
     except ValueError:
         number = -1
     if not 0 < number < 65536:
-        raise LeagueConnectionError(f"{what}: expected HOST:PORT (e.g. localhost:60000), got "
-                                    f"{text!r}")
+        raise LeagueConnectionError(
+            f"{what}: expected HOST:PORT (e.g. localhost:60000), got {text!r}"
+        )
     return host or "127.0.0.1", number
 
 
@@ -78,8 +78,9 @@ class Connection:
         try:
             self._sock.sendall(_LENGTH.pack(len(payload)) + payload)
         except OSError as err:
-            raise LeagueConnectionError(f"lost the server at {self.where}: "
-                                        f"{err.strerror or err}") from None
+            raise LeagueConnectionError(
+                f"lost the server at {self.where}: {err.strerror or err}"
+            ) from None
 
     def receive(self, timeout_s: float | None = None) -> bytes | None:
         """The next message; None if none is complete within ``timeout_s`` [s] (None: wait).
@@ -122,8 +123,9 @@ class Connection:
         try:
             chunk = self._sock.recv(1 << 20)
         except OSError as err:
-            raise LeagueConnectionError(f"lost the server at {self.where}: "
-                                        f"{err.strerror or err}") from None
+            raise LeagueConnectionError(
+                f"lost the server at {self.where}: {err.strerror or err}"
+            ) from None
         if not chunk:
             raise LeagueConnectionError(f"the server at {self.where} closed the connection")
         self._buffer += chunk
@@ -169,10 +171,12 @@ def connect(host: str, port: int, what: str, timeout_s: float = 5.0) -> Connecti
     except ConnectionRefusedError:
         raise LeagueConnectionError(
             f"nothing listens on {host}:{port} (the {what}); start a server "
-            "(rcssservermj) or leave out --server to let mimic host one") from None
+            "(rcssservermj) or leave out --server to let mimic host one"
+        ) from None
     except OSError as err:
-        raise LeagueConnectionError(f"cannot reach {host}:{port} (the {what}): "
-                                    f"{err.strerror or err}") from None
+        raise LeagueConnectionError(
+            f"cannot reach {host}:{port} (the {what}): {err.strerror or err}"
+        ) from None
     sock.settimeout(None)
     sock.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)  # one message per cycle: now
     return Connection(sock, (host, port))

@@ -20,8 +20,7 @@ import numpy as np
 
 from mimic.league.protocol import parse_sexp
 
-__all__ = ["SceneNode", "SceneState", "PlayerNode", "is_rsmp", "RSMP_PREFIX",
-           "slt_matrix"]
+__all__ = ["SceneNode", "SceneState", "PlayerNode", "is_rsmp", "RSMP_PREFIX", "slt_matrix"]
 
 #: How every RSMP frame starts.
 RSMP_PREFIX = b"((RSMP"
@@ -50,15 +49,16 @@ class SceneNode:
 
     __slots__ = ("kind", "slt", "desc", "children")
 
-    def __init__(self, kind: str, slt: np.ndarray | None, desc: list,
-                 children: list[SceneNode]) -> None:
+    def __init__(
+        self, kind: str, slt: np.ndarray | None, desc: list, children: list[SceneNode]
+    ) -> None:
         self.kind, self.slt, self.desc, self.children = kind, slt, desc, children
 
     @classmethod
     def from_sexp(cls, node: list) -> SceneNode:
         kind = node[1].decode() if len(node) > 1 and isinstance(node[1], bytes) else ""
         slt, desc, children = None, [], []
-        for item in node[2 if kind else 1:]:
+        for item in node[2 if kind else 1 :]:
             if not isinstance(item, list) or not item:
                 continue
             if item[0] == b"nd":
@@ -73,7 +73,7 @@ class SceneNode:
         """Apply a diff node (same shape as this node); False if the shapes differ."""
         kind = diff[1].decode() if len(diff) > 1 and isinstance(diff[1], bytes) else ""
         k = 0
-        for item in diff[2 if kind else 1:]:
+        for item in diff[2 if kind else 1 :]:
             if not isinstance(item, list) or not item:
                 continue
             if item[0] == b"nd":
@@ -136,8 +136,12 @@ class SceneState:
         except ValueError:
             self.skipped += 1
             return False
-        if not top or not isinstance(top[0], list) or not top[0] or top[0][0] != [b"RSMP",
-                                                                                   b"1", b"0"]:
+        if (
+            not top
+            or not isinstance(top[0], list)
+            or not top[0]
+            or top[0][0] != [b"RSMP", b"1", b"0"]
+        ):
             self.skipped += 1
             return False
         ok = True
@@ -150,8 +154,11 @@ class SceneState:
             elif name == b"sg" and len(section) > 2:
                 ok = self._apply_graph(section[1], section[2])
             elif name == b"gs":
-                self.game = {item[0].decode(): b" ".join(item[1:]).decode()
-                             for item in section[1:] if isinstance(item, list) and item}
+                self.game = {
+                    item[0].decode(): b" ".join(item[1:]).decode()
+                    for item in section[1:]
+                    if isinstance(item, list) and item
+                }
         if ok:
             self.frames += 1
         else:

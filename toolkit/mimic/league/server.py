@@ -110,9 +110,16 @@ class LeagueServer:
 
     def _arguments(self) -> list[str]:
         c = self.config
-        args = [*(c.command or (sys.executable, "-m", "rcsssmj")),
-                "--host", self.host, "--aport", str(self.agent_port),
-                "--mport", str(self.monitor_port), "--no-render"]
+        args = [
+            *(c.command or (sys.executable, "-m", "rcsssmj")),
+            "--host",
+            self.host,
+            "--aport",
+            str(self.agent_port),
+            "--mport",
+            str(self.monitor_port),
+            "--no-render",
+        ]
         args += ["--sync"] if c.sync else []
         args += ["--realtime" if c.realtime else "--no-realtime"]
         if c.logfile is not None:
@@ -151,9 +158,14 @@ class LeagueServer:
         with open(out_path, "wb") as out:
             try:
                 self._proc = subprocess.Popen(
-                    self._arguments(), cwd=self.workdir, stdin=subprocess.DEVNULL, stdout=out,
-                    stderr=subprocess.STDOUT, start_new_session=True,
-                    preexec_fn=_die_with_parent if sys.platform == "linux" else None)
+                    self._arguments(),
+                    cwd=self.workdir,
+                    stdin=subprocess.DEVNULL,
+                    stdout=out,
+                    stderr=subprocess.STDOUT,
+                    start_new_session=True,
+                    preexec_fn=_die_with_parent if sys.platform == "linux" else None,
+                )
             except OSError as err:
                 return f"cannot run {self._arguments()[0]}: {err.strerror}"
         deadline = time.monotonic() + self.config.startup_timeout_s
@@ -163,12 +175,12 @@ class LeagueServer:
                 return ""
             if self._proc.poll() is not None:
                 lines = [ln for ln in text.strip().splitlines() if ln.strip()]
-                return (f"exit code {self._proc.returncode}: "
-                        f"{lines[-1] if lines else 'no output'}")
+                return f"exit code {self._proc.returncode}: {lines[-1] if lines else 'no output'}"
             time.sleep(0.05)
         self._kill()
-        return (f"no '{READY_LINE}' within {self.config.startup_timeout_s:g} s "
-                f"(output in {out_path})")
+        return (
+            f"no '{READY_LINE}' within {self.config.startup_timeout_s:g} s (output in {out_path})"
+        )
 
     def request_stop(self) -> None:
         """Ask the server to stop (SIGINT) without waiting. In sync mode it stops once every

@@ -86,14 +86,18 @@ class LeagueWorld(World):
         server_config: how to host the server (used only without ``agent_address``).
     """
 
-    def __init__(self, robot: RobotDescription | str = "t1", *,
-                 agent_address: str | None = None, monitor_address: str | None = None,
-                 config: LeagueWorldConfig = LeagueWorldConfig(),
-                 server_config: ServerConfig | None = None) -> None:
+    def __init__(
+        self,
+        robot: RobotDescription | str = "t1",
+        *,
+        agent_address: str | None = None,
+        monitor_address: str | None = None,
+        config: LeagueWorldConfig = LeagueWorldConfig(),
+        server_config: ServerConfig | None = None,
+    ) -> None:
         self.robot = get_robot(robot)
         if self.robot.world != "league":
-            raise LeagueError(f"the {self.robot.name} is not a league robot; league robots: "
-                              "t1, k1")
+            raise LeagueError(f"the {self.robot.name} is not a league robot; league robots: t1, k1")
         self.config = config
         self.field = league_field()  # the server's default rule book's
         self.server: LeagueServer | None = None
@@ -103,12 +107,15 @@ class LeagueWorld(World):
             if agent_address is None:
                 self.server = LeagueServer(server_config or ServerConfig())
                 self.server.start()
-                agent_address, monitor_address = (self.server.agent_address,
-                                                  self.server.monitor_address)
+                agent_address, monitor_address = (
+                    self.server.agent_address,
+                    self.server.monitor_address,
+                )
             if monitor_address is not None:
                 self.monitor = MonitorClient(*parse_address(monitor_address, "monitor port"))
-            self._client = AgentClient(self.robot, *parse_address(agent_address, "--server"),
-                                       config.team, config.player)
+            self._client = AgentClient(
+                self.robot, *parse_address(agent_address, "--server"), config.team, config.player
+            )
             self._perception = self._client.receive(timeout_s=config.receive_timeout_s)
         except BaseException:
             self.close()
@@ -146,8 +153,10 @@ class LeagueWorld(World):
 
     def _need_monitor(self, what: str) -> MonitorClient:
         if self.monitor is None:
-            raise LeagueError(f"{what} needs the server's monitor port; give monitor_address "
-                              "(or let the world host its server)")
+            raise LeagueError(
+                f"{what} needs the server's monitor port; give monitor_address "
+                "(or let the world host its server)"
+            )
         return self.monitor
 
     # --- time ---------------------------------------------------------------------------
@@ -188,25 +197,38 @@ class LeagueWorld(World):
         send()
         time.sleep(self.config.command_settle_s)
 
-    def place_robot(self, x_m: float, y_m: float, yaw_rad: float = 0.0,
-                    joint_angles_rad: np.ndarray | None = None, *,
-                    posture: str = "standing") -> None:
+    def place_robot(
+        self,
+        x_m: float,
+        y_m: float,
+        yaw_rad: float = 0.0,
+        joint_angles_rad: np.ndarray | None = None,
+        *,
+        posture: str = "standing",
+    ) -> None:
         if posture not in POSTURES:
             raise ValueError(f"posture must be one of {', '.join(POSTURES)}, got {posture!r}")
         monitor = self._need_monitor("placing the robot")
-        pose = self.robot.zeros() if joint_angles_rad is None else \
-            self.robot.check_vector(joint_angles_rad, "start pose")
+        pose = (
+            self.robot.zeros()
+            if joint_angles_rad is None
+            else self.robot.check_vector(joint_angles_rad, "start pose")
+        )
         quat = posture_quat(yaw_rad, posture)
         z = self.config.drop_clearance_m - _lowest_point_m(self.robot, tuple(quat))
         self._command(lambda: monitor.place_player(self.team, self.player, (x_m, y_m, z), quat))
         hold = JointCommand.references(pose)
         for _ in range(max(1, round(self.config.place_timeout_s / CYCLE_S))):
             self.step(hold)
-            if np.hypot(*(self._perception.torso_pos_m[:2] - (x_m, y_m))) < \
-                    self.config.place_tolerance_m:
+            if (
+                np.hypot(*(self._perception.torso_pos_m[:2] - (x_m, y_m)))
+                < self.config.place_tolerance_m
+            ):
                 return
-        raise LeagueError(f"the server did not move {self.team} #{self.player} to "
-                          f"({x_m:.2f}, {y_m:.2f}) within {self.config.place_timeout_s:g} s")
+        raise LeagueError(
+            f"the server did not move {self.team} #{self.player} to "
+            f"({x_m:.2f}, {y_m:.2f}) within {self.config.place_timeout_s:g} s"
+        )
 
     def place_ball(self, x_m: float, y_m: float) -> None:
         monitor = self._need_monitor("placing the ball")
@@ -220,8 +242,9 @@ class LeagueWorld(World):
         """Send this cycle's motor commands and wait for the next perception."""
         self._client.send(command)
         # The newest perception: a real-time server does not wait for a slow player.
-        self._perception = self._client.receive(latest=True,
-                                                timeout_s=self.config.receive_timeout_s)
+        self._perception = self._client.receive(
+            latest=True, timeout_s=self.config.receive_timeout_s
+        )
         if self.monitor is not None:
             self.monitor.drain()  # keep the stream flowing (the server blocks on a full pipe)
 
@@ -240,8 +263,7 @@ class LeagueWorld(World):
             torso_quat_wxyz=p.torso_quat_wxyz.copy(),
             foot_forces_n=np.zeros(2),
             torso_pos_m=p.torso_pos_m.copy(),
-            ball_pos_m=self.ball_pos_m() if self.monitor is not None else
-            np.full(3, np.nan),
+            ball_pos_m=self.ball_pos_m() if self.monitor is not None else np.full(3, np.nan),
         )
 
     def joint_angles_rad(self) -> np.ndarray:
@@ -268,8 +290,9 @@ class LeagueWorld(World):
         seen = state.ball_pos_m()
         if self._pending_ball is not None:
             target, sent_s = self._pending_ball
-            arrived = seen is not None and (np.linalg.norm(seen[:2] - target[:2]) < 0.05
-                                            or state.time_s > sent_s + 5 * CYCLE_S)
+            arrived = seen is not None and (
+                np.linalg.norm(seen[:2] - target[:2]) < 0.05 or state.time_s > sent_s + 5 * CYCLE_S
+            )
             if not arrived:
                 return target.copy()
             self._pending_ball = None
@@ -308,7 +331,7 @@ def _lowest_point_m(robot: RobotDescription, quat_wxyz: tuple[float, ...]) -> fl
     m = load_model(robot.mjcf_path)
     d = mujoco.MjData(m)
     root = m.body(robot.root_link)
-    d.qpos[m.jnt_qposadr[m.body_jntadr[root.id]] + 3:][:4] = quat_wxyz
+    d.qpos[m.jnt_qposadr[m.body_jntadr[root.id]] + 3 :][:4] = quat_wxyz
     mujoco.mj_kinematics(m, d)
     lowest = math.inf
     for b in range(1, m.nbody):
@@ -318,8 +341,9 @@ def _lowest_point_m(robot: RobotDescription, quat_wxyz: tuple[float, ...]) -> fl
     return lowest - float(d.xpos[root.id, 2])
 
 
-def _world_poses(robot: RobotDescription, pos_m: np.ndarray,
-                 quat_wxyz: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def _world_poses(
+    robot: RobotDescription, pos_m: np.ndarray, quat_wxyz: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
     """Compose links' poses in their parents (root: in the field) into field poses."""
     index = {link.name: i for i, link in enumerate(robot.links)}
     out_pos, out_quat = pos_m.copy(), quat_wxyz.copy()
@@ -327,6 +351,6 @@ def _world_poses(robot: RobotDescription, pos_m: np.ndarray,
         if link.parent is None:
             continue
         p = index[link.parent]
-        out_pos[i] = out_pos[p] + rotate(out_quat[p:p + 1], pos_m[i:i + 1])[0]
-        out_quat[i] = quat_mul(out_quat[p:p + 1], quat_wxyz[i:i + 1])[0]
+        out_pos[i] = out_pos[p] + rotate(out_quat[p : p + 1], pos_m[i : i + 1])[0]
+        out_quat[i] = quat_mul(out_quat[p : p + 1], quat_wxyz[i : i + 1])[0]
     return out_pos, out_quat

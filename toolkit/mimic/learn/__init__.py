@@ -14,15 +14,32 @@ from mimic.learn.model import MotionModel
 from mimic.learn.model_file import describe_model, is_model_file, load_model, save_model
 from mimic.learn.presets import FAST, PAPER, Phase, Preset, get_preset
 from mimic.learn.train import (
-                               TrainConfig,
-                               TrainProgress,
-                               evaluate,
-                               train_model,
-                               train_models,
-                               training_dataset,
+    TrainConfig,
+    TrainProgress,
+    evaluate,
+    train_model,
+    train_models,
+    training_dataset,
 )
 
-__all__ = ["Dataset", "dataset_from_file", "dataset_from_frame", "MotionModel", "describe_model",
-           "is_model_file", "load_model", "save_model", "FAST", "PAPER", "Phase", "Preset",
-           "get_preset", "TrainConfig", "TrainProgress", "evaluate", "train_model",
-           "train_models", "training_dataset"]
+__all__ = [
+    "Dataset",
+    "dataset_from_file",
+    "dataset_from_frame",
+    "MotionModel",
+    "describe_model",
+    "is_model_file",
+    "load_model",
+    "save_model",
+    "FAST",
+    "PAPER",
+    "Phase",
+    "Preset",
+    "get_preset",
+    "TrainConfig",
+    "TrainProgress",
+    "evaluate",
+    "train_model",
+    "train_models",
+    "training_dataset",
+]

@@ -20,8 +20,10 @@ from mimic.robot.registry import DEFAULT_ROBOT, get_robot
 
 __all__ = ["BenchResult", "bench_train", "kick_dataset", "synthetic_dataset", "torch_baseline"]
 
-_PAPER_DATA = Path(os.environ.get("MIMIC_PAPER_DATA")
-                   or Path(__file__).resolve().parents[4] / "shared" / "paper-data")
+_PAPER_DATA = Path(
+    os.environ.get("MIMIC_PAPER_DATA")
+    or Path(__file__).resolve().parents[4] / "shared" / "paper-data"
+)
 
 
 def _single_thread() -> None:
@@ -33,8 +35,12 @@ def _single_thread() -> None:
     torch.set_num_threads(1)
 
 
-def synthetic_dataset(n: int = 77, seed: int = 0, name: str = "synthetic",
-                      robot: str | RobotDescription = DEFAULT_ROBOT):
+def synthetic_dataset(
+    n: int = 77,
+    seed: int = 0,
+    name: str = "synthetic",
+    robot: str | RobotDescription = DEFAULT_ROBOT,
+):
     """A smooth motion of ``robot``'s N joints, ``n`` 20 ms samples (sums of sines), with the
     ended flag."""
     import polars as pl
@@ -47,11 +53,13 @@ def synthetic_dataset(n: int = 77, seed: int = 0, name: str = "synthetic",
     shape = (3, robot.num_joints)  # three sines per joint
     rng = np.random.default_rng(seed)
     t = np.arange(n) * CYCLE_S
-    amp, freq, ph = (rng.uniform(0.1, 0.8, shape), rng.uniform(0.3, 2.0, shape),
-                     rng.uniform(0, 6.3, shape))
+    amp, freq, ph = (
+        rng.uniform(0.1, 0.8, shape),
+        rng.uniform(0.3, 2.0, shape),
+        rng.uniform(0, 6.3, shape),
+    )
     q = (amp[:, None] * np.sin(2 * np.pi * freq[:, None] * t[None, :, None] + ph[:, None])).sum(0)
-    frame = pl.DataFrame({TIME_COLUMN: t,
-                          **{j: q[:, i] for i, j in enumerate(robot.joint_names)}})
+    frame = pl.DataFrame({TIME_COLUMN: t, **{j: q[:, i] for i, j in enumerate(robot.joint_names)}})
     return dataset_from_frame(frame, robot=robot, metadata={"motion": name})
 
 
@@ -74,11 +82,16 @@ def kick_dataset(path: Path | None = None):
     rows = [line.strip().split("::") for line in path.read_text().splitlines()[1:] if line.strip()]
     a = np.array(rows, dtype=float)
     n = robot.num_joints
-    frame = pl.DataFrame({TIME_COLUMN: a[:, 0],
-                          **{j: a[:, 1 + i] for i, j in enumerate(robot.joint_names)},
-                          ENDED_COLUMN: a[:, 1 + n]})
-    return dataset_from_frame(frame, robot=robot,
-                              metadata={"motion": "kick_itandroids", "source": str(path)})
+    frame = pl.DataFrame(
+        {
+            TIME_COLUMN: a[:, 0],
+            **{j: a[:, 1 + i] for i, j in enumerate(robot.joint_names)},
+            ENDED_COLUMN: a[:, 1 + n],
+        }
+    )
+    return dataset_from_frame(
+        frame, robot=robot, metadata={"motion": "kick_itandroids", "source": str(path)}
+    )
 
 
 def torch_baseline(dataset, params0: np.ndarray, epochs: int, lr: float = 1e-3):
@@ -152,17 +165,20 @@ class BenchResult:
             f"torch baseline: {self.baseline_epochs} epochs measured, "
             f"{self.baseline_s_per_epoch * 1e6:.0f} us/epoch -> {base_full:.1f} s for "
             f"{self.paper_epochs} epochs (extrapolated)",
-            f"ours, paper preset ({self.paper_epochs} epochs): {self.paper_s:.2f} s wall ({self.paper_cpu_s:.2f} s CPU), "
-            f"MAE {self.paper_mae_rad:.4f} rad  -> {self.baseline_ratio:.1f}x faster than baseline",
-            f"ours, fast preset: {self.fast_s:.2f} s wall ({self.fast_cpu_s:.2f} s CPU), MAE {self.fast_mae_rad:.4f} rad",
+            f"ours, paper preset ({self.paper_epochs} epochs): {self.paper_s:.2f} s wall "
+            f"({self.paper_cpu_s:.2f} s CPU), MAE {self.paper_mae_rad:.4f} rad  -> "
+            f"{self.baseline_ratio:.1f}x faster than baseline",
+            f"ours, fast preset: {self.fast_s:.2f} s wall ({self.fast_cpu_s:.2f} s CPU), "
+            f"MAE {self.fast_mae_rad:.4f} rad",
             f"{self.batch_k} motions x {self.batch_epochs} epochs: one after another "
             f"{self.sequential_s:.2f} s, batched {self.batched_s:.2f} s -> "
             f"{self.batched_ratio:.2f}x",
         ]
 
 
-def bench_train(baseline_epochs: int = 2000, batch_k: int = 8, batch_epochs: int = 2000,
-                seed: int = 0) -> BenchResult:
+def bench_train(
+    baseline_epochs: int = 2000, batch_k: int = 8, batch_epochs: int = 2000, seed: int = 0
+) -> BenchResult:
     """Run the benchmark (about 10 s on an idle 2-core machine)."""
     _single_thread()
     from mimic.learn.network import Layout, init_params
@@ -190,6 +206,19 @@ def bench_train(baseline_epochs: int = 2000, batch_k: int = 8, batch_epochs: int
     start = time.perf_counter()
     train_models(many, cfg)
     bat_s = time.perf_counter() - start
-    return BenchResult(baseline_epochs, base_s / baseline_epochs, PAPER.epochs, paper_s,
-                       paper.metrics["mae_rad"], fast_s, fast.metrics["mae_rad"], batch_k,
-                       batch_epochs, seq_s, bat_s, data, paper_cpu_s, fast_cpu_s)
+    return BenchResult(
+        baseline_epochs,
+        base_s / baseline_epochs,
+        PAPER.epochs,
+        paper_s,
+        paper.metrics["mae_rad"],
+        fast_s,
+        fast.metrics["mae_rad"],
+        batch_k,
+        batch_epochs,
+        seq_s,
+        bat_s,
+        data,
+        paper_cpu_s,
+        fast_cpu_s,
+    )

@@ -19,6 +19,7 @@ CYCLES_TO_LEARN = 10
 def _full_duration_s(name: str) -> float | None:
     """Length of a shipped keyframe motion [s], or None for other motions."""
     from mimic.motion.files import list_motions, load_motion
+
     if name not in list_motions():
         return None
     return float(load_motion(name).duration_s)
@@ -32,16 +33,23 @@ def input_warnings(dataset: Dataset) -> list[str]:
     where = meta.get("source", dataset.name)
     got_s = float(dataset.time_s[-1]) if dataset.n_samples else 0.0
     if meta.get("recording_complete") is False or meta.get("recording_interrupted") is True:
-        how = (f"truncated recording (the last {meta.get('recording_bytes_lost', '?')} bytes "
-               "unreadable)" if meta.get("recording_complete") is False
-               else "interrupted recording")
+        how = (
+            f"truncated recording (the last {meta.get('recording_bytes_lost', '?')} bytes "
+            "unreadable)"
+            if meta.get("recording_complete") is False
+            else "interrupted recording"
+        )
         full = _full_duration_s(dataset.name) if dataset.period_s is None else None
         of = f" of {dataset.name}, which lasts {full:.2f} s" if full else ""
-        return [f"{where}: {how}: recovered {got_s:.2f} s ({dataset.n_samples} samples){of}; "
-                "the motion may be incomplete: record it again"]
+        return [
+            f"{where}: {how}: recovered {got_s:.2f} s ({dataset.n_samples} samples){of}; "
+            "the motion may be incomplete: record it again"
+        ]
     if dataset.period_s is None and meta.get("recording_ended") is False:
-        return [f"{where}: the motion never ends in the recording (no /ended true in "
-                f"{got_s:.2f} s); it may be cut short"]
+        return [
+            f"{where}: the motion never ends in the recording (no /ended true in "
+            f"{got_s:.2f} s); it may be cut short"
+        ]
     return []
 
 
@@ -54,15 +62,21 @@ def fit_warnings(model: MotionModel, dataset: Dataset) -> list[str]:
     length_s = float(dataset.time_s[-1]) if dataset.n_samples else 0.0
     if dataset.period_s is not None and length_s > (CYCLES_TO_LEARN + 1) * dataset.period_s:
         cycles = length_s / dataset.period_s
-        advice = (f"the recording holds {cycles:.0f} cycles of {dataset.period_s:g} s and one "
-                  "network learns their average cycle; learn one steady cycle from fewer "
-                  f"(mimic record without --duration records {CYCLES_TO_LEARN})")
+        advice = (
+            f"the recording holds {cycles:.0f} cycles of {dataset.period_s:g} s and one "
+            "network learns their average cycle; learn one steady cycle from fewer "
+            f"(mimic record without --duration records {CYCLES_TO_LEARN})"
+        )
     elif dataset.period_s is None and length_s > 10.0:
-        advice = (f"the motion is {length_s:.0f} s long; a network this size learns one motion "
-                  "of a few seconds or one cycle: record a shorter piece (mimic record "
-                  "--duration) or a cyclic agent, whose period makes the network learn one "
-                  "cycle")
+        advice = (
+            f"the motion is {length_s:.0f} s long; a network this size learns one motion "
+            "of a few seconds or one cycle: record a shorter piece (mimic record "
+            "--duration) or a cyclic agent, whose period makes the network learn one "
+            "cycle"
+        )
     else:
         advice = "train longer (--epochs) or with --preset paper"
-    return [f"{model.name}: poor fit, mean absolute error {mae:.3f} rad (good fits stay below "
-            f"{POOR_FIT_MAE_RAD} rad); {advice}"]
+    return [
+        f"{model.name}: poor fit, mean absolute error {mae:.3f} rad (good fits stay below "
+        f"{POOR_FIT_MAE_RAD} rad); {advice}"
+    ]

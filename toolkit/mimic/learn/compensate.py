@@ -44,8 +44,13 @@ from mimic.robot.actuators import SpeedServos
 from mimic.robot.model import RobotDescription
 from mimic.robot.registry import get_robot
 
-__all__ = ["CompensationConfig", "compensate_references", "references_from_angles",
-           "simulate_tracking", "speed_servos"]
+__all__ = [
+    "CompensationConfig",
+    "compensate_references",
+    "references_from_angles",
+    "simulate_tracking",
+    "speed_servos",
+]
 
 
 @dataclass(frozen=True)
@@ -74,14 +79,19 @@ def speed_servos(robot: str | RobotDescription) -> SpeedServos:
     """
     robot = get_robot(robot)
     if not isinstance(robot.actuator, SpeedServos):
-        raise MimicError(f"compensated targets need speed servos; the {robot.name} has "
-                         f"{robot.actuator.kind}: learn its reached angles (--target reached)")
+        raise MimicError(
+            f"compensated targets need speed servos; the {robot.name} has "
+            f"{robot.actuator.kind}: learn its reached angles (--target reached)"
+        )
     return robot.actuator
 
 
-def compensate_references(time_s: np.ndarray, angles_rad: np.ndarray,
-                          robot: str | RobotDescription,
-                          config: CompensationConfig = CompensationConfig()) -> np.ndarray:
+def compensate_references(
+    time_s: np.ndarray,
+    angles_rad: np.ndarray,
+    robot: str | RobotDescription,
+    config: CompensationConfig = CompensationConfig(),
+) -> np.ndarray:
     """References (T, N) that reproduce observed angles (T, N) [rad] of ``robot`` (its joint
     order) sampled at times (T,) [s] through its speed servos, clipped to its joint limits
     widened by ``config.limit_margin_rad``.
@@ -94,21 +104,28 @@ def compensate_references(time_s: np.ndarray, angles_rad: np.ndarray,
     servos = speed_servos(robot)
     q = np.asarray(angles_rad, dtype=float)
     if q.ndim != 2 or q.shape[1] != robot.num_joints:
-        raise MimicError(f"compensation: the {robot.name} has {robot.num_joints} joints, got "
-                         f"angles of shape {q.shape}")
+        raise MimicError(
+            f"compensation: the {robot.name} has {robot.num_joints} joints, got "
+            f"angles of shape {q.shape}"
+        )
     ref = references_from_angles(time_s, q, servos, config)
     gain, cap = servos.tracking_gain_per_s, servos.max_speed_rad_s
     m = cap / gain if config.limit_margin_rad is None else config.limit_margin_rad
     return np.clip(ref, robot.lower_limits_rad - m, robot.upper_limits_rad + m)
 
 
-def references_from_angles(time_s: np.ndarray, angles_rad: np.ndarray, servos: SpeedServos,
-                           config: CompensationConfig = CompensationConfig()) -> np.ndarray:
+def references_from_angles(
+    time_s: np.ndarray,
+    angles_rad: np.ndarray,
+    servos: SpeedServos,
+    config: CompensationConfig = CompensationConfig(),
+) -> np.ndarray:
     """The inversion alone: references (T, J) that drive ``servos`` through observed angles
     (T, J) [rad] at times (T,) [s], for any J joints (no limit clip)."""
     if config.saturated_reference not in ("nearest", "toward"):
-        raise ValueError(f"saturated_reference must be 'nearest' or 'toward', "
-                         f"got {config.saturated_reference!r}")
+        raise ValueError(
+            f"saturated_reference must be 'nearest' or 'toward', got {config.saturated_reference!r}"
+        )
     t = np.asarray(time_s, dtype=float)
     q = np.asarray(angles_rad, dtype=float)
     gain, cap = servos.tracking_gain_per_s, servos.max_speed_rad_s
@@ -139,8 +156,9 @@ def references_from_angles(time_s: np.ndarray, angles_rad: np.ndarray, servos: S
     return ref
 
 
-def simulate_tracking(time_s: np.ndarray, reference_rad: np.ndarray, start_rad: np.ndarray,
-                      servos: SpeedServos) -> np.ndarray:
+def simulate_tracking(
+    time_s: np.ndarray, reference_rad: np.ndarray, start_rad: np.ndarray, servos: SpeedServos
+) -> np.ndarray:
     """Angles (T, J) of ideal first-order joints driven by ``servos`` toward references
     (T, J) [rad]: q[k+1] = q[k] + dt * servos.track(r[k], q[k]).
 

@@ -49,8 +49,10 @@ class Dataset:
 
     def __post_init__(self) -> None:
         if self.targets.shape[1:] != (self.num_joints + 1,):
-            raise ValueError(f"targets of shape {self.targets.shape} for {self.num_joints} "
-                             f"{self.robot} joints + the ended flag")
+            raise ValueError(
+                f"targets of shape {self.targets.shape} for {self.num_joints} "
+                f"{self.robot} joints + the ended flag"
+            )
 
     @property
     def n_samples(self) -> int:
@@ -63,7 +65,7 @@ class Dataset:
     @property
     def angles_rad(self) -> np.ndarray:
         """(T, N) joint targets [rad]."""
-        return self.targets[:, :self.num_joints]
+        return self.targets[:, : self.num_joints]
 
     @property
     def name(self) -> str:
@@ -72,7 +74,7 @@ class Dataset:
     def with_angles(self, angles_rad: np.ndarray, **metadata) -> Dataset:
         """The same dataset with other joint targets (e.g. compensated), metadata updated."""
         targets = self.targets.copy()
-        targets[:, :self.num_joints] = angles_rad
+        targets[:, : self.num_joints] = angles_rad
         return replace(self, targets=targets, metadata={**self.metadata, **metadata})
 
 
@@ -80,8 +82,13 @@ def _where(metadata: dict) -> str:
     return str(metadata.get("source") or "joint table")
 
 
-def dataset_from_frame(frame: pl.DataFrame, *, robot: str | RobotDescription = DEFAULT_ROBOT,
-                       period_s: float | None = None, metadata: dict | None = None) -> Dataset:
+def dataset_from_frame(
+    frame: pl.DataFrame,
+    *,
+    robot: str | RobotDescription = DEFAULT_ROBOT,
+    period_s: float | None = None,
+    metadata: dict | None = None,
+) -> Dataset:
     """Build a dataset of ``robot`` from a joint table (see module docstring).
 
     Raises:
@@ -93,24 +100,37 @@ def dataset_from_frame(frame: pl.DataFrame, *, robot: str | RobotDescription = D
     metadata = dict(metadata or {})
     where = _where(metadata)
     if TIME_COLUMN not in frame.columns:
-        raise DatasetError(f"{where}: no {TIME_COLUMN!r} column; columns: {', '.join(frame.columns)}")
+        raise DatasetError(
+            f"{where}: no {TIME_COLUMN!r} column; columns: {', '.join(frame.columns)}"
+        )
     joints = [c for c in frame.columns if c not in (TIME_COLUMN, ENDED_COLUMN)]
     if tuple(joints) != names:
         missing = [n for n in names if n not in joints]
         extra = [n for n in joints if n not in names]
-        detail = "; ".join(s for s in (f"missing {', '.join(missing)}" if missing else "",
-                                       f"unexpected {', '.join(extra)}" if extra else "",
-                                       "wrong order" if not (missing or extra) else "") if s)
-        raise DatasetError(f"{where}: expected the {robot.num_joints} {robot.name} joints in "
-                           f"its order, got {len(joints)} joint columns ({detail})")
+        detail = "; ".join(
+            s
+            for s in (
+                f"missing {', '.join(missing)}" if missing else "",
+                f"unexpected {', '.join(extra)}" if extra else "",
+                "wrong order" if not (missing or extra) else "",
+            )
+            if s
+        )
+        raise DatasetError(
+            f"{where}: expected the {robot.num_joints} {robot.name} joints in "
+            f"its order, got {len(joints)} joint columns ({detail})"
+        )
     if frame.height == 0:
         raise DatasetError(f"{where}: the joint table is empty; record or import a motion first")
     if frame.height == 1:
         raise DatasetError(f"{where}: a single sample cannot make a motion; need at least 2")
     t = frame[TIME_COLUMN].cast(pl.Float64).to_numpy().copy()
     angles = frame.select(names).cast(pl.Float64).to_numpy().copy()
-    ended = (frame[ENDED_COLUMN].cast(pl.Float64).fill_null(0.0).to_numpy()
-             if ENDED_COLUMN in frame.columns else np.zeros(len(t)))
+    ended = (
+        frame[ENDED_COLUMN].cast(pl.Float64).fill_null(0.0).to_numpy()
+        if ENDED_COLUMN in frame.columns
+        else np.zeros(len(t))
+    )
     bad = np.argwhere(~np.isfinite(angles))
     if len(bad) or not np.isfinite(t).all() or np.isnan(ended).any():
         if len(bad):
@@ -130,7 +150,9 @@ def dataset_from_frame(frame: pl.DataFrame, *, robot: str | RobotDescription = D
         flag[-1] = 1.0
     else:
         if not (period_s > 0 and math.isfinite(period_s)):
-            raise DatasetError(f"{where}: period must be a positive number of seconds, got {period_s}")
+            raise DatasetError(
+                f"{where}: period must be a positive number of seconds, got {period_s}"
+            )
         flag = np.zeros(len(t))
     t = t - t[0]
     targets = np.concatenate([angles, flag[:, None]], axis=1)
@@ -148,20 +170,28 @@ def _read_table(path: Path, topic: str | None):
         topic = topic or rec.joint_topic()
         frame = read_joint_table(rec, topic)
         info = rec.info
-        meta = {"source": str(path), "topic": topic,
-                # How complete the recording is (``mimic.learn.checks`` warns about it).
-                "recording_complete": rec.recovery.complete,
-                "recording_interrupted": rec.interrupted,
-                "recording_bytes_lost": rec.recovery.bytes_lost,
-                "recording_duration_s": (float(frame[TIME_COLUMN][-1]) if frame.height
-                                         else 0.0),
-                "recording_ended": bool(ENDED_COLUMN in frame.columns and frame.height
-                                        and frame[ENDED_COLUMN].max() > 0.5)}
+        meta = {
+            "source": str(path),
+            "topic": topic,
+            # How complete the recording is (``mimic.learn.checks`` warns about it).
+            "recording_complete": rec.recovery.complete,
+            "recording_interrupted": rec.interrupted,
+            "recording_bytes_lost": rec.recovery.bytes_lost,
+            "recording_duration_s": (float(frame[TIME_COLUMN][-1]) if frame.height else 0.0),
+            "recording_ended": bool(
+                ENDED_COLUMN in frame.columns and frame.height and frame[ENDED_COLUMN].max() > 0.5
+            ),
+        }
         period, robot = None, rec.robot.name
         if info is not None:
-            meta.update(motion=info.motion, team=info.team, agent=info.agent,
-                        source_kind=info.source, recording_seed=info.seed,
-                        recording_toolkit_version=info.toolkit_version)
+            meta.update(
+                motion=info.motion,
+                team=info.team,
+                agent=info.agent,
+                source_kind=info.source,
+                recording_seed=info.seed,
+                recording_toolkit_version=info.toolkit_version,
+            )
             if info.ball_offset_m is not None:
                 meta["ball_offset_m"] = list(info.ball_offset_m)
             if info.start_posture != "standing":
@@ -175,12 +205,15 @@ def _read_table(path: Path, topic: str | None):
         frame = read_paper_table(path)
         meta = {"source": str(path), "topic": "paper", "motion": path.stem, "team": "paper"}
         return frame, STUDY_ROBOT, meta, None
-    raise DatasetError(f"{path}: unknown input kind {suffix or '(no suffix)'!r}; "
-                       "give a .mcap recording or a study .txt table")
+    raise DatasetError(
+        f"{path}: unknown input kind {suffix or '(no suffix)'!r}; "
+        "give a .mcap recording or a study .txt table"
+    )
 
 
-def dataset_from_file(path: str | Path, topic: str | None = None, *,
-                      period_s: float | None = None) -> Dataset:
+def dataset_from_file(
+    path: str | Path, topic: str | None = None, *, period_s: float | None = None
+) -> Dataset:
     """Dataset from an MCAP recording (``topic``: None picks ``/joint_references`` when
     present, else ``/joint_states``) or a study ``::`` text file (``.txt``).
 
@@ -192,6 +225,7 @@ def dataset_from_file(path: str | Path, topic: str | None = None, *,
         RecordingError: the recording cannot be read.
     """
     from mimic.files import input_file
+
     try:
         path = input_file(path, "file", "give a .mcap recording or a study .txt table")
     except MimicError as err:
@@ -202,6 +236,6 @@ def dataset_from_file(path: str | Path, topic: str | None = None, *,
         raise
     except (OSError, ValueError) as err:
         raise DatasetError(f"{path}: cannot read ({err})") from None
-    return dataset_from_frame(frame, robot=robot,
-                              period_s=period_s if period_s is not None else period,
-                              metadata=meta)
+    return dataset_from_frame(
+        frame, robot=robot, period_s=period_s if period_s is not None else period, metadata=meta
+    )

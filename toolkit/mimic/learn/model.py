@@ -62,8 +62,10 @@ class MotionModel:
             self.joint_names = get_robot(self.robot).joint_names
         self.joint_names = tuple(self.joint_names)
         if len(self.joint_names) + 1 != self.layout.out_dim:
-            raise ValueError(f"{len(self.joint_names)} {self.robot} joints + the ended flag "
-                             f"do not match a network with {self.layout.out_dim} outputs")
+            raise ValueError(
+                f"{len(self.joint_names)} {self.robot} joints + the ended flag "
+                f"do not match a network with {self.layout.out_dim} outputs"
+            )
         if self.output_mean is None:
             self.output_mean = np.zeros(self.layout.out_dim)
         if self.output_std is None:

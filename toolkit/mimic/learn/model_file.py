@@ -27,8 +27,15 @@ from mimic.learn.model import MotionModel
 from mimic.learn.network import Layout
 from mimic.robot.registry import DEFAULT_ROBOT, get_robot
 
-__all__ = ["save_model", "load_model", "describe_model", "is_model_file", "looks_like_model_file",
-           "FORMAT", "SUFFIX"]
+__all__ = [
+    "save_model",
+    "load_model",
+    "describe_model",
+    "is_model_file",
+    "looks_like_model_file",
+    "FORMAT",
+    "SUFFIX",
+]
 
 FORMAT = "mimic-motion-model"
 FORMAT_VERSION = 1
@@ -63,9 +70,13 @@ def save_model(model: MotionModel, path: str | Path, *, overwrite: bool = True) 
         "input_scale_per_s": model.input_scale_per_s,
         "period_s": model.period_s,
         "duration_s": model.duration_s,
-        "layout": {"in_dim": model.layout.in_dim, "out_dim": model.layout.out_dim,
-                   "hidden": list(model.layout.hidden), "activation": "leaky_relu_0.3",
-                   "n_params": model.layout.n_params},
+        "layout": {
+            "in_dim": model.layout.in_dim,
+            "out_dim": model.layout.out_dim,
+            "hidden": list(model.layout.hidden),
+            "activation": "leaky_relu_0.3",
+            "n_params": model.layout.n_params,
+        },
         "preset": model.preset,
         "metrics": model.metrics,
         "source": model.metadata,
@@ -74,10 +85,12 @@ def save_model(model: MotionModel, path: str | Path, *, overwrite: bool = True) 
         with zipfile.ZipFile(tmp, "w", compression=zipfile.ZIP_DEFLATED) as z:
             z.writestr(_META, json.dumps(meta, indent=1, default=_json_default))
             z.writestr("params.npy", _array_bytes(np.asarray(model.params, dtype=np.float32)))
-            z.writestr("output_mean.npy",
-                       _array_bytes(np.asarray(model.output_mean, dtype=np.float64)))
-            z.writestr("output_std.npy",
-                       _array_bytes(np.asarray(model.output_std, dtype=np.float64)))
+            z.writestr(
+                "output_mean.npy", _array_bytes(np.asarray(model.output_mean, dtype=np.float64))
+            )
+            z.writestr(
+                "output_std.npy", _array_bytes(np.asarray(model.output_std, dtype=np.float64))
+            )
     return path
 
 
@@ -113,10 +126,12 @@ def _read_meta(path: Path) -> tuple[zipfile.ZipFile, dict]:
         z = zipfile.ZipFile(path)
     except _DAMAGE as err:
         if _starts_as_zip(path):  # a model file cut off or damaged at its end
-            raise ModelFileError(f"{path}: broken model file ({_damage(err)}: cut off or "
-                                 f"damaged); {_RETRAIN}") from None
-        raise ModelFileError(f"{path}: not a mimic model file (not a zip archive); "
-                             f"{_RETRAIN}") from None
+            raise ModelFileError(
+                f"{path}: broken model file ({_damage(err)}: cut off or damaged); {_RETRAIN}"
+            ) from None
+        raise ModelFileError(
+            f"{path}: not a mimic model file (not a zip archive); {_RETRAIN}"
+        ) from None
     try:
         meta = json.loads(z.read(_META))
     except KeyError:
@@ -124,8 +139,9 @@ def _read_meta(path: Path) -> tuple[zipfile.ZipFile, dict]:
         raise ModelFileError(f"{path}: not a mimic model file (no {_META}); {_RETRAIN}") from None
     except (*_DAMAGE, json.JSONDecodeError, UnicodeDecodeError) as err:
         z.close()
-        raise ModelFileError(f"{path}: broken model file ({_damage(err)} in {_META}); "
-                             f"{_RETRAIN}") from None
+        raise ModelFileError(
+            f"{path}: broken model file ({_damage(err)} in {_META}); {_RETRAIN}"
+        ) from None
     if not isinstance(meta, dict) or meta.get("format") != FORMAT:
         z.close()
         raise ModelFileError(f"{path}: not a mimic model file (no {FORMAT!r} tag)")
@@ -163,8 +179,10 @@ def load_model(path: str | Path) -> MotionModel:
     z, meta = _read_meta(path)
     with z:
         if int(meta.get("format_version", 0)) > FORMAT_VERSION:
-            raise ModelFileError(f"{path}: model format {meta['format_version']} is newer than "
-                                 f"this toolkit reads ({FORMAT_VERSION}); update mimic")
+            raise ModelFileError(
+                f"{path}: model format {meta['format_version']} is newer than "
+                f"this toolkit reads ({FORMAT_VERSION}); update mimic"
+            )
         try:
             robot = get_robot(str(meta.get("robot", DEFAULT_ROBOT)))
         except MimicError as err:
@@ -175,28 +193,45 @@ def load_model(path: str | Path) -> MotionModel:
                 f"{path}: model made for a different joint layout ({len(names)} joints"
                 f"{', first ' + names[0] if names else ''}); the {robot.name} has "
                 f"{robot.num_joints} joints starting {robot.joint_names[0]}: retrain it on a "
-                f"recording of the {robot.name}")
+                f"recording of the {robot.name}"
+            )
         try:
             lay = meta["layout"]
-            layout = Layout(in_dim=int(lay["in_dim"]), out_dim=int(lay["out_dim"]),
-                            hidden=tuple(int(h) for h in lay["hidden"]))
+            layout = Layout(
+                in_dim=int(lay["in_dim"]),
+                out_dim=int(lay["out_dim"]),
+                hidden=tuple(int(h) for h in lay["hidden"]),
+            )
             params = np.load(io.BytesIO(z.read("params.npy")), allow_pickle=False)
             mean = np.load(io.BytesIO(z.read("output_mean.npy")), allow_pickle=False)
             std = np.load(io.BytesIO(z.read("output_std.npy")), allow_pickle=False)
         except (KeyError, ValueError, TypeError, *_DAMAGE) as err:
-            raise ModelFileError(f"{path}: broken model file ({_damage(err)}); "
-                                 f"{_RETRAIN}") from None
-    if params.shape != (layout.n_params,) or layout.out_dim != len(names) + 1 \
-            or mean.shape != (layout.out_dim,) or std.shape != (layout.out_dim,):
+            raise ModelFileError(
+                f"{path}: broken model file ({_damage(err)}); {_RETRAIN}"
+            ) from None
+    if (
+        params.shape != (layout.n_params,)
+        or layout.out_dim != len(names) + 1
+        or mean.shape != (layout.out_dim,)
+        or std.shape != (layout.out_dim,)
+    ):
         raise ModelFileError(f"{path}: damaged model file (array shapes do not match its layout)")
-    return MotionModel(layout, params, input_kind=meta["input_kind"],
-                       input_offset_s=float(meta["input_offset_s"]),
-                       input_scale_per_s=float(meta["input_scale_per_s"]),
-                       period_s=meta.get("period_s"),
-                       duration_s=float(meta.get("duration_s", 0.0)), output_mean=mean,
-                       output_std=std, preset=meta.get("preset", "?"), robot=robot.name,
-                       joint_names=names, metrics=meta.get("metrics", {}),
-                       metadata=meta.get("source", {}))
+    return MotionModel(
+        layout,
+        params,
+        input_kind=meta["input_kind"],
+        input_offset_s=float(meta["input_offset_s"]),
+        input_scale_per_s=float(meta["input_scale_per_s"]),
+        period_s=meta.get("period_s"),
+        duration_s=float(meta.get("duration_s", 0.0)),
+        output_mean=mean,
+        output_std=std,
+        preset=meta.get("preset", "?"),
+        robot=robot.name,
+        joint_names=names,
+        metrics=meta.get("metrics", {}),
+        metadata=meta.get("source", {}),
+    )
 
 
 def describe_model(path: str | Path) -> dict:

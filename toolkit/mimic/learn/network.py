@@ -99,15 +99,16 @@ class Layout:
         """Views of a (..., P) parameter array as (..., fan_out, fan_in + 1) layer matrices."""
         lead = flat.shape[:-1]
         o = self.offsets
-        return [flat[..., o[i]:o[i + 1]].reshape(*lead, *s) for i, s in enumerate(self.shapes)]
+        return [flat[..., o[i] : o[i + 1]].reshape(*lead, *s) for i, s in enumerate(self.shapes)]
 
     def layers(self, flat: np.ndarray) -> list[tuple[np.ndarray, np.ndarray]]:
         """Per layer (W (fan_in, fan_out), b (fan_out,)) copies, the usual ``x @ W + b`` form."""
         return [(np.ascontiguousarray(m[:, :-1].T), m[:, -1].copy()) for m in self.views(flat)]
 
 
-def init_params(layout: Layout, rng: np.random.Generator, init: str = "glorot_uniform",
-                knot_range: float = 1.0) -> np.ndarray:
+def init_params(
+    layout: Layout, rng: np.random.Generator, init: str = "glorot_uniform", knot_range: float = 1.0
+) -> np.ndarray:
     """A (P,) float32 parameter vector: weights drawn per layer, biases zero.
 
     ``glorot_uniform`` (Keras' default): U(-a, a), a = sqrt(6 / (fan_in + fan_out)).
@@ -157,9 +158,16 @@ class AdamTrainer:
         betas, eps: Adam's constants (torch's update rule: eps added to sqrt(v_hat)).
     """
 
-    def __init__(self, layout: Layout, params: np.ndarray, x: np.ndarray, y: np.ndarray,
-                 n_samples: np.ndarray, betas: tuple[float, float] = (0.9, 0.999),
-                 eps: float = 1e-8) -> None:
+    def __init__(
+        self,
+        layout: Layout,
+        params: np.ndarray,
+        x: np.ndarray,
+        y: np.ndarray,
+        n_samples: np.ndarray,
+        betas: tuple[float, float] = (0.9, 0.999),
+        eps: float = 1e-8,
+    ) -> None:
         k, n = x.shape[0], x.shape[1]
         self.layout, self.k, self.n = layout, k, n
         self.beta1, self.beta2, self.eps = betas[0], betas[1], eps
@@ -174,8 +182,9 @@ class AdamTrainer:
         valid = np.arange(n)[None, :] < self.n_samples[:, None]  # (K, N)
         self.valid = valid
         # d(MSE)/dy, times (1 - b1) for the folded Adam first moment; zero on padding rows.
-        self.grad_scale = (valid * ((1.0 - self.beta1) * 2.0
-                                    / (self.n_samples[:, None] * layout.out_dim))).astype(_F)[..., None]
+        self.grad_scale = (
+            valid * ((1.0 - self.beta1) * 2.0 / (self.n_samples[:, None] * layout.out_dim))
+        ).astype(_F)[..., None]
         widths = layout.widths
         # Layer inputs, feature-major (K, features + 1, N), with a last row of ones (bias).
         self.acts = [np.ones((k, w + 1, n), dtype=_F) for w in widths[:-1]]
@@ -198,22 +207,37 @@ class AdamTrainer:
     def _build_program(self) -> None:
         """Precompute every view the epoch touches (view creation costs as much as a tiny op)."""
         n_layers = len(self.mats)
-        self._fwd = [(self.mats[i], self.acts[i], self.pre[i],
-                      self.slopes[i] if i < n_layers - 1 else None,
-                      self.acts[i + 1][:, :-1, :] if i < n_layers - 1 else None)
-                     for i in range(n_layers)]
+        self._fwd = [
+            (
+                self.mats[i],
+                self.acts[i],
+                self.pre[i],
+                self.slopes[i] if i < n_layers - 1 else None,
+                self.acts[i + 1][:, :-1, :] if i < n_layers - 1 else None,
+            )
+            for i in range(n_layers)
+        ]
         # BLAS multiplies delta @ acts^T (inner dimension: the samples) ~1.6x slower through a
         # transposed view than from a sample-major copy, and for wide layers the copy costs
         # less than it saves (measured: 10.5 us vs 6.5 + 2.4 us for the 50 x 76 layer; see ``_COPY_MIN_WIDTH``).
-        copies = [np.empty((self.k, self.n, a.shape[1]), dtype=_F)
-                  if a.shape[1] >= _COPY_MIN_WIDTH else None for a in self.acts]
-        self._bwd = [(self.delta[i], copies[i] if copies[i] is not None
-                      else self.acts[i].transpose(0, 2, 1), self.gmats[i],
-                      self.mats[i][:, :, :-1].transpose(0, 2, 1) if i > 0 else None,
-                      self.delta[i - 1] if i > 0 else None,
-                      self.slopes[i - 1] if i > 0 else None,
-                      self.acts[i].transpose(0, 2, 1) if copies[i] is not None else None)
-                     for i in range(n_layers - 1, -1, -1)]
+        copies = [
+            np.empty((self.k, self.n, a.shape[1]), dtype=_F)
+            if a.shape[1] >= _COPY_MIN_WIDTH
+            else None
+            for a in self.acts
+        ]
+        self._bwd = [
+            (
+                self.delta[i],
+                copies[i] if copies[i] is not None else self.acts[i].transpose(0, 2, 1),
+                self.gmats[i],
+                self.mats[i][:, :, :-1].transpose(0, 2, 1) if i > 0 else None,
+                self.delta[i - 1] if i > 0 else None,
+                self.slopes[i - 1] if i > 0 else None,
+                self.acts[i].transpose(0, 2, 1) if copies[i] is not None else None,
+            )
+            for i in range(n_layers - 1, -1, -1)
+        ]
 
     def _forward(self) -> np.ndarray:
         # Python floats, not np.float32 scalars: numpy keeps float32 either way (NEP 50) and
@@ -245,11 +269,11 @@ class AdamTrainer:
         b1, b2 = self.beta1, self.beta2
         self.step_count += 1
         t = self.step_count
-        bc1, bc2 = 1.0 - b1 ** t, 1.0 - b2 ** t
+        bc1, bc2 = 1.0 - b1**t, 1.0 - b2**t
         root = math.sqrt(bc2 / self._c)
         g, m, w, tmp = self.grad, self.m, self.w, self.tmp
         m *= b1
-        m += g                      # g already carries the (1 - b1) factor
+        m += g  # g already carries the (1 - b1) factor
         np.multiply(g, g, out=g)
         w *= b2
         w += g
@@ -279,5 +303,5 @@ class AdamTrainer:
 
     def mse(self) -> np.ndarray:
         """(K,) mean squared error of each model over its valid rows and all outputs."""
-        err = (self._forward() - self.y).astype(np.float64) ** 2   # (K, out, N)
+        err = (self._forward() - self.y).astype(np.float64) ** 2  # (K, out, N)
         return (err.sum(axis=1) * self.valid).sum(axis=1) / (self.n_samples * self.layout.out_dim)

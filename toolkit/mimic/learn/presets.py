@@ -88,8 +88,13 @@ class Preset:
 
 PAPER = Preset(
     name="paper",
-    phases=(Phase(30000, 1e-3), Phase(5000, 8e-4), Phase(5000, 6e-4), Phase(5000, 4e-4),
-            Phase(5000, 2e-4)),
+    phases=(
+        Phase(30000, 1e-3),
+        Phase(5000, 8e-4),
+        Phase(5000, 6e-4),
+        Phase(5000, 4e-4),
+        Phase(5000, 2e-4),
+    ),
     scale_input=False,
     standardise_output=False,
     init="glorot_uniform",

@@ -22,8 +22,17 @@ from mimic.learn.model import INPUT_PHASE, INPUT_TIME, MotionModel
 from mimic.learn.network import AdamTrainer, Layout, init_params
 from mimic.learn.presets import FAST, Preset
 
-__all__ = ["TrainConfig", "TrainProgress", "train_models", "train_model", "evaluate",
-           "input_mapping", "training_dataset", "TARGET_REACHED", "TARGET_COMPENSATED"]
+__all__ = [
+    "TrainConfig",
+    "TrainProgress",
+    "train_models",
+    "train_model",
+    "evaluate",
+    "input_mapping",
+    "training_dataset",
+    "TARGET_REACHED",
+    "TARGET_COMPENSATED",
+]
 
 
 @dataclass(frozen=True)
@@ -41,6 +50,7 @@ class TrainConfig:
 
     def __post_init__(self) -> None:
         from mimic import options
+
         options.seed(self.seed)
         options.count(self.epochs, "--epochs")
         options.count(self.log_every, "log_every")
@@ -72,12 +82,19 @@ class TrainProgress:
 def input_mapping(dataset: Dataset, preset: Preset) -> dict:
     """Input kind and scaling of a dataset under a preset (``MotionModel`` fields)."""
     if dataset.period_s is not None:
-        return dict(input_kind=INPUT_PHASE, period_s=float(dataset.period_s),
-                    input_offset_s=0.0, input_scale_per_s=1.0)
+        return dict(
+            input_kind=INPUT_PHASE,
+            period_s=float(dataset.period_s),
+            input_offset_s=0.0,
+            input_scale_per_s=1.0,
+        )
     t0, t1 = float(dataset.time_s[0]), float(dataset.time_s[-1])
     if preset.scale_input:
-        return dict(input_kind=INPUT_TIME, input_offset_s=0.5 * (t0 + t1),
-                    input_scale_per_s=2.0 * preset.input_half_range / max(t1 - t0, 1e-9))
+        return dict(
+            input_kind=INPUT_TIME,
+            input_offset_s=0.5 * (t0 + t1),
+            input_scale_per_s=2.0 * preset.input_half_range / max(t1 - t0, 1e-9),
+        )
     return dict(input_kind=INPUT_TIME, input_offset_s=0.0, input_scale_per_s=1.0)
 
 
@@ -98,8 +115,10 @@ def evaluate(model: MotionModel, dataset: Dataset) -> dict:
         ValueError: the model and the dataset have different joints.
     """
     if model.joint_names != dataset.joint_names:
-        raise ValueError(f"model of the {model.robot} ({model.num_joints} joints) evaluated on "
-                         f"a {dataset.robot} dataset ({dataset.num_joints} joints)")
+        raise ValueError(
+            f"model of the {model.robot} ({model.num_joints} joints) evaluated on "
+            f"a {dataset.robot} dataset ({dataset.num_joints} joints)"
+        )
     n = model.num_joints
     y = model.predict(dataset.time_s)
     err = np.abs(y[:, :n] - dataset.angles_rad)
@@ -113,8 +132,11 @@ def evaluate(model: MotionModel, dataset: Dataset) -> dict:
     }
 
 
-def train_models(datasets: Sequence[Dataset], config: TrainConfig = TrainConfig(),
-                 progress: Callable[[TrainProgress], None] | None = None) -> list[MotionModel]:
+def train_models(
+    datasets: Sequence[Dataset],
+    config: TrainConfig = TrainConfig(),
+    progress: Callable[[TrainProgress], None] | None = None,
+) -> list[MotionModel]:
     """Train one model per dataset (batched by input kind and joints); returns them in input
     order."""
     models: list[MotionModel | None] = [None] * len(datasets)
@@ -128,14 +150,18 @@ def train_models(datasets: Sequence[Dataset], config: TrainConfig = TrainConfig(
     return models  # type: ignore[return-value]
 
 
-def train_model(dataset: Dataset, config: TrainConfig = TrainConfig(),
-                progress: Callable[[TrainProgress], None] | None = None) -> MotionModel:
+def train_model(
+    dataset: Dataset,
+    config: TrainConfig = TrainConfig(),
+    progress: Callable[[TrainProgress], None] | None = None,
+) -> MotionModel:
     """Train one model."""
     return train_models([dataset], config, progress)[0]
 
 
-def _train_batch(datasets: list[Dataset], in_dim: int, config: TrainConfig,
-                 progress) -> list[MotionModel]:
+def _train_batch(
+    datasets: list[Dataset], in_dim: int, config: TrainConfig, progress
+) -> list[MotionModel]:
     preset = config.schedule()
     n_joints = datasets[0].num_joints
     layout = Layout.for_joints(n_joints, in_dim)
@@ -146,18 +172,34 @@ def _train_batch(datasets: list[Dataset], in_dim: int, config: TrainConfig,
     for i, d in enumerate(datasets):
         mapping = input_mapping(d, preset)
         mean, std = _output_scaling(d, preset)
-        shell = MotionModel(layout, np.zeros(layout.n_params, np.float32), **mapping,
-                            duration_s=float(d.time_s[-1]), output_mean=mean, output_std=std,
-                            preset=preset.name, robot=d.robot, joint_names=d.joint_names,
-                            metadata=dict(d.metadata))
+        shell = MotionModel(
+            layout,
+            np.zeros(layout.n_params, np.float32),
+            **mapping,
+            duration_s=float(d.time_s[-1]),
+            output_mean=mean,
+            output_std=std,
+            preset=preset.name,
+            robot=d.robot,
+            joint_names=d.joint_names,
+            metadata=dict(d.metadata),
+        )
         x[i, : d.n_samples] = shell.network_inputs(d.time_s)
         y[i, : d.n_samples] = (d.targets - mean) / std
         shells.append(shell)
         scales.append(std[:n_joints])
-    params0 = init_params(layout, np.random.default_rng(config.seed), preset.init,
-                          knot_range=preset.input_half_range)
-    trainer = AdamTrainer(layout, np.repeat(params0[None], k, axis=0), x, y,
-                          np.array([d.n_samples for d in datasets]), preset.betas, preset.eps)
+    params0 = init_params(
+        layout, np.random.default_rng(config.seed), preset.init, knot_range=preset.input_half_range
+    )
+    trainer = AdamTrainer(
+        layout,
+        np.repeat(params0[None], k, axis=0),
+        x,
+        y,
+        np.array([d.n_samples for d in datasets]),
+        preset.betas,
+        preset.eps,
+    )
     std_j = np.stack(scales)[:, None, :]  # (K, 1, N)
     names = tuple(d.name for d in datasets)
     total, done, start = preset.epochs, 0, time.perf_counter()
@@ -166,8 +208,18 @@ def _train_batch(datasets: list[Dataset], in_dim: int, config: TrainConfig,
         pred = trainer.predict()
         err = np.abs(pred[..., :n_joints] - y[..., :n_joints]) * std_j * trainer.valid[..., None]
         mae = err.sum(axis=(1, 2)) / (trainer.n_samples * n_joints)
-        progress(TrainProgress(names, phase, lr, epochs_done, total, trainer.mse(), mae,
-                               time.perf_counter() - start))
+        progress(
+            TrainProgress(
+                names,
+                phase,
+                lr,
+                epochs_done,
+                total,
+                trainer.mse(),
+                mae,
+                time.perf_counter() - start,
+            )
+        )
 
     # One BLAS thread: on these tiny matrices a second thread only adds synchronisation, and
     # on a busy machine its spin-waits make an epoch ~40x slower (measured: 63 s vs 1.5 s).
@@ -181,8 +233,14 @@ def _train_batch(datasets: list[Dataset], in_dim: int, config: TrainConfig,
     out = []
     for i, (shell, d) in enumerate(zip(shells, datasets)):
         model = replace(shell, params=trainer.params[i].copy())
-        model.metrics = {**evaluate(model, d), "epochs": total, "wall_s": wall_s,
-                         "batch_size": k, "seed": config.seed, "toolkit_version": __version__}
+        model.metrics = {
+            **evaluate(model, d),
+            "epochs": total,
+            "wall_s": wall_s,
+            "batch_size": k,
+            "seed": config.seed,
+            "toolkit_version": __version__,
+        }
         out.append(model)
     return out
 
@@ -212,14 +270,16 @@ def training_dataset(path, topic: str | None = None, target: str | None = None) 
     from mimic.robot.registry import get_robot
 
     if target not in (None, TARGET_REACHED, TARGET_COMPENSATED):
-        raise DatasetError(f"unknown target {target!r}; use {TARGET_REACHED} or "
-                           f"{TARGET_COMPENSATED}")
+        raise DatasetError(
+            f"unknown target {target!r}; use {TARGET_REACHED} or {TARGET_COMPENSATED}"
+        )
     ds = dataset_from_file(path, topic)
     if target is None:
         observed = ds.metadata.get("topic") == JOINT_STATES
         servos = isinstance(get_robot(ds.robot).actuator, SpeedServos)
         target = TARGET_COMPENSATED if observed and servos else TARGET_REACHED
     if target == TARGET_COMPENSATED:
-        return ds.with_angles(compensate_references(ds.time_s, ds.angles_rad, ds.robot),
-                              target=target)
+        return ds.with_angles(
+            compensate_references(ds.time_s, ds.angles_rad, ds.robot), target=target
+        )
     return replace(ds, metadata={**ds.metadata, "target": target})

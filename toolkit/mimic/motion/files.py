@@ -42,8 +42,14 @@ from mimic.motion.keyframe import START_POSTURES, KeyframeStep, Movement
 from mimic.robot.model import RobotDescription, UnknownJointError
 from mimic.robot.registry import DEFAULT_ROBOT, UnknownRobotError, get_robot
 
-__all__ = ["parse_motion", "format_motion", "load_motion", "list_motions", "stand_motion",
-           "MOTIONS_DIR"]
+__all__ = [
+    "parse_motion",
+    "format_motion",
+    "load_motion",
+    "list_motions",
+    "stand_motion",
+    "MOTIONS_DIR",
+]
 
 MOTIONS_DIR = resources.files("mimic.motion") / "motions"
 #: Time the ``stand`` motion takes to reach the stand pose [s].
@@ -55,8 +61,10 @@ def _set(robot: RobotDescription, angles: np.ndarray, name: str, degrees: float)
         part = name.removeprefix("both_").lower()
         left = [i for i, j in enumerate(robot.joints) if j.name.lower() == f"left_{part}"]
         if not left:
-            raise UnknownJointError(f"{robot.name} has no joints {name!r} (left_{part} and "
-                                    f"its mirror); its joints: {', '.join(robot.joint_names)}")
+            raise UnknownJointError(
+                f"{robot.name} has no joints {name!r} (left_{part} and "
+                f"its mirror); its joints: {', '.join(robot.joint_names)}"
+            )
         angles[left[0]] = math.radians(degrees)
         right = robot.mirror_permutation[left[0]]
         angles[right] = math.radians(degrees) * robot.joints[right].mirror_sign
@@ -71,8 +79,7 @@ def _motions_dir(robot: str):
 def stand_motion(robot: str | RobotDescription = DEFAULT_ROBOT) -> Movement:
     """The ``stand`` motion: the robot's stand pose, reached in ``STAND_STEP_S``."""
     robot = get_robot(robot)
-    return Movement("stand", (KeyframeStep(robot.stand_pose(), STAND_STEP_S),),
-                    robot=robot.name)
+    return Movement("stand", (KeyframeStep(robot.stand_pose(), STAND_STEP_S),), robot=robot.name)
 
 
 def parse_motion(text: str, source: str = "<text>") -> Movement:
@@ -107,8 +114,10 @@ def parse_motion(text: str, source: str = "<text>") -> Movement:
                 ball_offset = (float(args[0]), float(args[1]))
             elif key == "start" and len(args) == 1:
                 if args[0] not in START_POSTURES:
-                    raise MotionFileError(f"{where}: start must be one of "
-                                          f"{', '.join(START_POSTURES)}, got {args[0]!r}")
+                    raise MotionFileError(
+                        f"{where}: start must be one of "
+                        f"{', '.join(START_POSTURES)}, got {args[0]!r}"
+                    )
                 posture = args[0]
             elif key == "mirror_of" and len(args) == 1:
                 mirror_of = args[0]
@@ -120,10 +129,12 @@ def parse_motion(text: str, source: str = "<text>") -> Movement:
             elif len(args) == 1 and time_s is not None:
                 _set(robot, angles, key, float(args[0]))
             else:
-                raise MotionFileError(f"{where}: cannot read {raw.strip()!r}; expected "
-                                      "'step SECONDS', 'JOINT DEGREES', 'ball_offset X_M Y_M' or "
-                                      "'start POSTURE' "
-                                      "(see mimic.motion.files)")
+                raise MotionFileError(
+                    f"{where}: cannot read {raw.strip()!r}; expected "
+                    "'step SECONDS', 'JOINT DEGREES', 'ball_offset X_M Y_M' or "
+                    "'start POSTURE' "
+                    "(see mimic.motion.files)"
+                )
         except (UnknownJointError, UnknownRobotError) as err:
             raise MotionFileError(f"{where}: {err}") from None
         except ValueError:
@@ -131,12 +142,18 @@ def parse_motion(text: str, source: str = "<text>") -> Movement:
     close_step()
     if mirror_of is not None:
         base = load_motion(mirror_of, robot.name)
-        mirrored = tuple(KeyframeStep(robot.mirror_angles(s.angles_rad), s.time_s)
-                         for s in base.steps)
+        mirrored = tuple(
+            KeyframeStep(robot.mirror_angles(s.angles_rad), s.time_s) for s in base.steps
+        )
         offset = base.ball_offset_m
-        return Movement(name, mirrored, base.speed_rate,
-                        None if offset is None else (offset[0], -offset[1]), base.start_posture,
-                        robot.name)
+        return Movement(
+            name,
+            mirrored,
+            base.speed_rate,
+            None if offset is None else (offset[0], -offset[1]),
+            base.start_posture,
+            robot.name,
+        )
     if not steps:
         raise MotionFileError(f"{source}: no 'step' in the file; a motion needs at least one")
     try:
@@ -161,8 +178,7 @@ def format_motion(movement: Movement) -> str:
         lines.append(f"start {movement.start_posture}")
     for step in movement.steps:
         lines.append(f"step {float(step.time_s)!r}")
-        lines += [f"{j.name} {math.degrees(a):.12g}"
-                  for j, a in zip(robot.joints, step.angles_rad)]
+        lines += [f"{j.name} {math.degrees(a):.12g}" for j, a in zip(robot.joints, step.angles_rad)]
     return "\n".join(lines) + "\n"
 
 
@@ -171,8 +187,7 @@ def list_motions(robot: str = DEFAULT_ROBOT) -> list[str]:
     folder = _motions_dir(robot)
     names = {"stand"}
     if folder.is_dir():
-        names |= {p.name.removesuffix(".txt") for p in folder.iterdir()
-                  if p.name.endswith(".txt")}
+        names |= {p.name.removesuffix(".txt") for p in folder.iterdir() if p.name.endswith(".txt")}
     return sorted(names)
 
 
@@ -186,5 +201,7 @@ def load_motion(name_or_path: str | Path, robot: str = DEFAULT_ROBOT) -> Movemen
         return parse_motion(shipped.read_text(), f"{name_or_path}.txt")
     if str(name_or_path) == "stand":
         return stand_motion(robot)
-    raise MotionFileError(f"unknown {robot} motion {str(name_or_path)!r}; shipped motions: "
-                          f"{', '.join(list_motions(robot))} (or give a path to a .txt file)")
+    raise MotionFileError(
+        f"unknown {robot} motion {str(name_or_path)!r}; shipped motions: "
+        f"{', '.join(list_motions(robot))} (or give a path to a .txt file)"
+    )

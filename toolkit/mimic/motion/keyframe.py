@@ -32,8 +32,9 @@ class KeyframeStep:
 
     def __post_init__(self) -> None:
         if np.ndim(self.angles_rad) != 1:
-            raise ValueError(f"a keyframe is a vector of angles, got shape "
-                             f"{np.shape(self.angles_rad)}")
+            raise ValueError(
+                f"a keyframe is a vector of angles, got shape {np.shape(self.angles_rad)}"
+            )
         if self.time_s < 0:
             raise ValueError(f"step time must be >= 0 s, got {self.time_s}")
 
@@ -42,8 +43,9 @@ class KeyframeStep:
         # the last bit, which no sensor or servo could ever tell apart.
         if not isinstance(other, KeyframeStep):
             return NotImplemented
-        return (abs(self.time_s - other.time_s) <= 1e-9
-                and bool(np.allclose(self.angles_rad, other.angles_rad, rtol=0.0, atol=1e-9)))
+        return abs(self.time_s - other.time_s) <= 1e-9 and bool(
+            np.allclose(self.angles_rad, other.angles_rad, rtol=0.0, atol=1e-9)
+        )
 
 
 #: How a motion may start: on the feet, or lying on the front or the back.
@@ -80,11 +82,14 @@ class Movement:
         n = get_robot(self.robot).num_joints
         for step in self.steps:
             if np.shape(step.angles_rad) != (n,):
-                raise ValueError(f"a {self.robot} keyframe has {n} angles, got "
-                                 f"{np.shape(step.angles_rad)[0]}")
+                raise ValueError(
+                    f"a {self.robot} keyframe has {n} angles, got {np.shape(step.angles_rad)[0]}"
+                )
         if self.start_posture not in START_POSTURES:
-            raise ValueError(f"start posture must be one of {', '.join(START_POSTURES)}, "
-                             f"got {self.start_posture!r}")
+            raise ValueError(
+                f"start posture must be one of {', '.join(START_POSTURES)}, "
+                f"got {self.start_posture!r}"
+            )
         if self.speed_rate <= 0:
             raise ValueError(f"speed rate must be > 0, got {self.speed_rate}")
 
@@ -114,5 +119,6 @@ class Movement:
         return NaturalCubicSpline(times, keys)
 
     def with_speed_rate(self, speed_rate: float) -> Movement:
-        return Movement(self.name, self.steps, speed_rate, self.ball_offset_m,
-                        self.start_posture, self.robot)
+        return Movement(
+            self.name, self.steps, speed_rate, self.ball_offset_m, self.start_posture, self.robot
+        )

@@ -54,5 +54,4 @@ class NaturalCubicSpline:
         i = int(np.searchsorted(t, time_s, side="right")) - 1
         h = t[i + 1] - t[i]
         a, b = (t[i + 1] - time_s) / h, (time_s - t[i]) / h
-        return (a * y[i] + b * y[i + 1]
-                + ((a ** 3 - a) * m[i] + (b ** 3 - b) * m[i + 1]) * h * h / 6)
+        return a * y[i] + b * y[i + 1] + ((a**3 - a) * m[i] + (b**3 - b) * m[i + 1]) * h * h / 6

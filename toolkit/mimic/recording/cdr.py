@@ -81,8 +81,13 @@ def _joint_state_names(names: tuple[str, ...], frame_id: str) -> tuple[bytes, in
     return b"".join(b.parts[2:]), b.n
 
 
-def encode_joint_state(time_ns: int, names: Sequence[str], position: np.ndarray,
-                       velocity: np.ndarray | None = None, frame_id: str = "") -> bytes:
+def encode_joint_state(
+    time_ns: int,
+    names: Sequence[str],
+    position: np.ndarray,
+    velocity: np.ndarray | None = None,
+    frame_id: str = "",
+) -> bytes:
     """sensor_msgs/msg/JointState with an empty effort array."""
     middle, n = _joint_state_names(tuple(names), frame_id)
     b = _Buffer()
@@ -116,13 +121,19 @@ def _tf_layout(parents: tuple[str, ...], children: tuple[str, ...]):
     return b.bytes(), stamp_idx, pose_idx
 
 
-def encode_tf(time_ns: int, parents: Sequence[str], children: Sequence[str],
-              pos_m: np.ndarray, quat_wxyz: np.ndarray) -> bytes:
+def encode_tf(
+    time_ns: int,
+    parents: Sequence[str],
+    children: Sequence[str],
+    pos_m: np.ndarray,
+    quat_wxyz: np.ndarray,
+) -> bytes:
     """tf2_msgs/msg/TFMessage: one TransformStamped per child, all at ``time_ns``."""
     template, stamp_idx, pose_idx = _tf_layout(tuple(parents), tuple(children))
     out = np.frombuffer(template, dtype=np.uint8).copy()
-    stamp = np.frombuffer(_STAMP.pack(int(time_ns // 1_000_000_000),
-                                      int(time_ns % 1_000_000_000)), dtype=np.uint8)
+    stamp = np.frombuffer(
+        _STAMP.pack(int(time_ns // 1_000_000_000), int(time_ns % 1_000_000_000)), dtype=np.uint8
+    )
     out[stamp_idx] = stamp
     q = np.asarray(quat_wxyz, dtype=float)
     poses = np.concatenate([np.asarray(pos_m, dtype=float), q[:, 1:], q[:, :1]], axis=1)

@@ -4,10 +4,10 @@ A recording holds ROS 2 messages (CDR) so that Rerun and Foxglove open it as it 
 
 | topic | schema | what |
 |---|---|---|
-| ``/joint_states`` | sensor_msgs/msg/JointState | angles [rad] and speeds [rad/s] the simulator reports, every 20 ms cycle |
-| ``/joint_references`` | sensor_msgs/msg/JointState | references [rad] our own controller commanded (own agents only) |
-| ``/ended`` | std_msgs/msg/Bool | the motion-ended flag, one per joint sample (true from the sample where the motion ended) |
-| ``/tf`` | tf2_msgs/msg/TFMessage | the robot's link tree (``world`` -> ``torso`` -> ... , as in the URDF) and ``world`` -> ``ball`` |
+| ``/joint_states`` | sensor_msgs/msg/JointState | angles [rad], speeds [rad/s] seen, every cycle |
+| ``/joint_references`` | sensor_msgs/msg/JointState | references [rad] our controller sent (own agents) |
+| ``/ended`` | std_msgs/msg/Bool | the motion-ended flag, one per joint sample (true from the end on) |
+| ``/tf`` | tf2_msgs/msg/TFMessage | the link tree (``world`` -> ``torso`` -> ..., as in the URDF), the ball |
 | ``/robot_description`` | std_msgs/msg/String | the URDF twin, once at t = 0 |
 
 Times are integer nanoseconds. MCAP log times and message header stamps are wall-clock times
@@ -32,9 +32,22 @@ from mimic.robot.registry import DEFAULT_ROBOT, get_robot
 from mimic.world.base import CYCLE_S
 
 __all__ = [
-    "JOINT_STATES", "JOINT_REFERENCES", "ENDED", "TF", "ROBOT_DESCRIPTION", "JOINT_TOPICS",
-    "WORLD_FRAME", "BALL_FRAME", "METADATA_NAME", "END_METADATA_NAME", "TIME_COLUMN",
-    "ENDED_COLUMN", "RecordingInfo", "SCHEMAS", "NS_PER_S", "START_WALL_TIME_KEY",
+    "JOINT_STATES",
+    "JOINT_REFERENCES",
+    "ENDED",
+    "TF",
+    "ROBOT_DESCRIPTION",
+    "JOINT_TOPICS",
+    "WORLD_FRAME",
+    "BALL_FRAME",
+    "METADATA_NAME",
+    "END_METADATA_NAME",
+    "TIME_COLUMN",
+    "ENDED_COLUMN",
+    "RecordingInfo",
+    "SCHEMAS",
+    "NS_PER_S",
+    "START_WALL_TIME_KEY",
 ]
 
 JOINT_STATES = "/joint_states"
@@ -137,8 +150,16 @@ class RecordingInfo:
         return cls(**kwargs, extra=extra)
 
 
-_TEXT_FIELDS = {"motion", "agent", "team", "source", "robot", "world", "toolkit_version",
-                "start_posture"}
+_TEXT_FIELDS = {
+    "motion",
+    "agent",
+    "team",
+    "source",
+    "robot",
+    "world",
+    "toolkit_version",
+    "start_posture",
+}
 
 _TIME = """MSG: builtin_interfaces/Time
 int32 sec
@@ -154,15 +175,24 @@ _SEP = "=" * 80 + "\n"
 SCHEMAS: dict[str, str] = {
     "sensor_msgs/msg/JointState": (
         "std_msgs/Header header\nstring[] name\nfloat64[] position\nfloat64[] velocity\n"
-        "float64[] effort\n" + _SEP + _HEADER + _SEP + _TIME),
+        "float64[] effort\n" + _SEP + _HEADER + _SEP + _TIME
+    ),
     "tf2_msgs/msg/TFMessage": (
-        "geometry_msgs/TransformStamped[] transforms\n" + _SEP
+        "geometry_msgs/TransformStamped[] transforms\n"
+        + _SEP
         + "MSG: geometry_msgs/TransformStamped\nstd_msgs/Header header\nstring child_frame_id\n"
-          "Transform transform\n" + _SEP
-        + "MSG: geometry_msgs/Transform\nVector3 translation\nQuaternion rotation\n" + _SEP
-        + "MSG: geometry_msgs/Vector3\nfloat64 x\nfloat64 y\nfloat64 z\n" + _SEP
+        "Transform transform\n"
+        + _SEP
+        + "MSG: geometry_msgs/Transform\nVector3 translation\nQuaternion rotation\n"
+        + _SEP
+        + "MSG: geometry_msgs/Vector3\nfloat64 x\nfloat64 y\nfloat64 z\n"
+        + _SEP
         + "MSG: geometry_msgs/Quaternion\nfloat64 x 0\nfloat64 y 0\nfloat64 z 0\nfloat64 w 1\n"
-        + _SEP + _HEADER + _SEP + _TIME),
+        + _SEP
+        + _HEADER
+        + _SEP
+        + _TIME
+    ),
     "std_msgs/msg/String": "string data\n",
     "std_msgs/msg/Bool": "bool data\n",
 }

@@ -46,29 +46,48 @@ from mimic.recording.layout import ENDED_COLUMN, TIME_COLUMN
 from mimic.recording.writer import RecordingWriter
 from mimic.robot.registry import get_robot
 
-__all__ = ["PAPER_TO_CANONICAL", "PAPER_SIGNS", "STUDY_ROBOT", "read_paper_table",
-           "import_paper_file", "default_topic"]
+__all__ = [
+    "PAPER_TO_CANONICAL",
+    "PAPER_SIGNS",
+    "STUDY_ROBOT",
+    "read_paper_table",
+    "import_paper_file",
+    "default_topic",
+]
 
 #: The robot of every study file (whatever the default robot of other commands is).
 STUDY_ROBOT = "nao"
 _SIDES = {"left": "left", "right": "right"}
 _PART = {  # their joint (without side) -> our joint (without side)
-    "ShoulderPitch": "shoulder_pitch", "ShoulderYaw": "shoulder_roll",
-    "ArmRoll": "elbow_yaw", "ArmYaw": "elbow_roll",
-    "HipYawPitch": "hip_yaw_pitch", "HipRoll": "hip_roll", "HipPitch": "hip_pitch",
-    "KneePitch": "knee_pitch", "FootPitch": "ankle_pitch", "FootRoll": "ankle_roll",
+    "ShoulderPitch": "shoulder_pitch",
+    "ShoulderYaw": "shoulder_roll",
+    "ArmRoll": "elbow_yaw",
+    "ArmYaw": "elbow_roll",
+    "HipYawPitch": "hip_yaw_pitch",
+    "HipRoll": "hip_roll",
+    "HipPitch": "hip_pitch",
+    "KneePitch": "knee_pitch",
+    "FootPitch": "ankle_pitch",
+    "FootRoll": "ankle_roll",
 }
 #: Their column name -> our canonical joint name.
 PAPER_TO_CANONICAL: dict[str, str] = {
-    "neckYaw": "head_yaw", "neckPitch": "head_pitch",
+    "neckYaw": "head_yaw",
+    "neckPitch": "head_pitch",
     **{f"{side}{part}": f"{side}_{ours}" for side in _SIDES for part, ours in _PART.items()},
     "leftHipYawPitc": "left_hip_yaw_pitch",  # ut_walk.txt's header typo
 }
-_FLIP = {"head_pitch", "left_shoulder_pitch", "right_shoulder_pitch", "left_hip_yaw_pitch",
-         *(f"{s}_{p}" for s in _SIDES for p in ("hip_pitch", "knee_pitch", "ankle_pitch"))}
+_FLIP = {
+    "head_pitch",
+    "left_shoulder_pitch",
+    "right_shoulder_pitch",
+    "left_hip_yaw_pitch",
+    *(f"{s}_{p}" for s in _SIDES for p in ("hip_pitch", "knee_pitch", "ankle_pitch")),
+}
 #: Our canonical joint name -> sign with ours = sign * theirs (evidence in the module doc).
-PAPER_SIGNS: dict[str, float] = {n: (-1.0 if n in _FLIP else 1.0)
-                                  for n in get_robot(STUDY_ROBOT).joint_names}
+PAPER_SIGNS: dict[str, float] = {
+    n: (-1.0 if n in _FLIP else 1.0) for n in get_robot(STUDY_ROBOT).joint_names
+}
 
 
 def default_topic(path: str | Path) -> str:
@@ -90,15 +109,15 @@ def _parse(path: Path) -> tuple[list[str], np.ndarray]:
     except (OSError, UnicodeDecodeError) as err:
         raise RecordingError(f"{path}: cannot read the file ({err})") from None
     if len(lines) < 2 or "::" not in lines[0]:
-        raise RecordingError(f"{path}: not a study joint table (expected a '::'-separated "
-                             "header row and data rows)")
+        raise RecordingError(
+            f"{path}: not a study joint table (expected a '::'-separated header row and data rows)"
+        )
     header = [h.strip() for h in lines[0].split("::")]
     rows = []
     for lineno, line in enumerate(lines[1:], 2):
         fields = line.split("::")
         if len(fields) != len(header):
-            raise RecordingError(f"{path}:{lineno}: {len(fields)} fields, header has "
-                                 f"{len(header)}")
+            raise RecordingError(f"{path}:{lineno}: {len(fields)} fields, header has {len(header)}")
         try:  # an empty field (the kick family's last flag) reads as NaN
             rows.append([float(x) if x.strip() else math.nan for x in fields])
         except ValueError:
@@ -124,16 +143,21 @@ def read_paper_table(path: str | Path, *, distance_m: float | None = None) -> pl
         choice = dist[0] if distance_m is None else distance_m
         keep = np.isclose(dist, choice)
         if not keep.any():
-            raise RecordingError(f"{path}: no kick for distance {distance_m} m; distances: "
-                                 f"{', '.join(f'{d:g}' for d in np.unique(dist))}")
+            raise RecordingError(
+                f"{path}: no kick for distance {distance_m} m; distances: "
+                f"{', '.join(f'{d:g}' for d in np.unique(dist))}"
+            )
         data = data[keep]
     known = {h: PAPER_TO_CANONICAL[h] for h in header if h in PAPER_TO_CANONICAL}
-    unknown = [h for h in header if h not in known and h not in ("timestep", "distance",
-                                                                 "hasEnded")]
+    unknown = [
+        h for h in header if h not in known and h not in ("timestep", "distance", "hasEnded")
+    ]
     missing = [n for n in names if n not in known.values()]
     if unknown or missing:
-        raise RecordingError(f"{path}: unknown columns: {', '.join(unknown) or 'none'}; "
-                             f"joints missing: {', '.join(missing) or 'none'}")
+        raise RecordingError(
+            f"{path}: unknown columns: {', '.join(unknown) or 'none'}; "
+            f"joints missing: {', '.join(missing) or 'none'}"
+        )
     column = {ours: header.index(theirs) for theirs, ours in known.items()}
     table = {TIME_COLUMN: data[:, header.index("timestep")]}
     for name in names:
@@ -149,9 +173,14 @@ def read_paper_table(path: str | Path, *, distance_m: float | None = None) -> pl
     return pl.DataFrame(table)
 
 
-def import_paper_file(path: str | Path, out_path: str | Path, *, topic: str | None = None,
-                      distance_m: float | None = None, overwrite: bool = True
-                      ) -> L.RecordingInfo:
+def import_paper_file(
+    path: str | Path,
+    out_path: str | Path,
+    *,
+    topic: str | None = None,
+    distance_m: float | None = None,
+    overwrite: bool = True,
+) -> L.RecordingInfo:
     """Write a study file as a recording in our layout (joints on ``topic``, default by file:
     ``default_topic``), with ``/ended`` and the robot description. Returns its info.
 
@@ -168,11 +197,18 @@ def import_paper_file(path: str | Path, out_path: str | Path, *, topic: str | No
         raise RecordingError(f"{path}: time runs backwards")
     values = table.select(robot.joint_names).to_numpy()
     info = L.RecordingInfo(
-        motion=path.stem, agent=f"paper:{path.name}", team="other_team", robot=robot.name,
+        motion=path.stem,
+        agent=f"paper:{path.name}",
+        team="other_team",
+        robot=robot.name,
         source="reference" if topic == L.JOINT_REFERENCES else "observed",
         toolkit_version=__version__,
-        extra={"imported_from": path.name, "sign_convention": "mimic.recording.paper_import",
-               **({"distance_m": f"{distance_m:g}"} if distance_m is not None else {})})
+        extra={
+            "imported_from": path.name,
+            "sign_convention": "mimic.recording.paper_import",
+            **({"distance_m": f"{distance_m:g}"} if distance_m is not None else {}),
+        },
+    )
     t0 = times[0]
     with RecordingWriter(out_path, info, urdf=robot.urdf(), overwrite=overwrite) as writer:
         for t, row, ended in zip(times, values, table[ENDED_COLUMN].to_numpy()):

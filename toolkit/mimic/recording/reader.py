@@ -30,9 +30,19 @@ from mimic.recording.layout import ENDED_COLUMN, TIME_COLUMN
 from mimic.robot.model import RobotDescription, UnknownJointError
 from mimic.robot.registry import DEFAULT_ROBOT, get_robot
 
-__all__ = ["Recording", "TopicInfo", "RecoveryReport", "TfTrack", "read_recording",
-           "read_joint_table", "read_tf", "world_poses", "describe_recording", "ENDED_COLUMN",
-           "TIME_COLUMN"]
+__all__ = [
+    "Recording",
+    "TopicInfo",
+    "RecoveryReport",
+    "TfTrack",
+    "read_recording",
+    "read_joint_table",
+    "read_tf",
+    "world_poses",
+    "describe_recording",
+    "ENDED_COLUMN",
+    "TIME_COLUMN",
+]
 
 _MAGIC = b"\x89MCAP0\r\n"
 
@@ -71,9 +81,11 @@ class RecoveryReport:
         """One line for the user."""
         if self.complete:
             return f"complete ({self.messages_recovered} messages)"
-        return (f"damaged or truncated file ({self.problem}): recovered "
-                f"{self.messages_recovered} messages up to t = {self.last_time_s:.2f} s, "
-                f"lost the last {self.bytes_lost} bytes")
+        return (
+            f"damaged or truncated file ({self.problem}): recovered "
+            f"{self.messages_recovered} messages up to t = {self.last_time_s:.2f} s, "
+            f"lost the last {self.bytes_lost} bytes"
+        )
 
 
 @dataclass
@@ -127,15 +139,18 @@ class Recording:
             if topic in self.topics:
                 return topic
         if required:
-            raise RecordingError(f"{self.path}: no joint topic ({', '.join(L.JOINT_TOPICS)}); "
-                                 f"topics present: {', '.join(self.topics) or 'none'}")
+            raise RecordingError(
+                f"{self.path}: no joint topic ({', '.join(L.JOINT_TOPICS)}); "
+                f"topics present: {', '.join(self.topics) or 'none'}"
+            )
         return None
 
     def decoded(self, topic: str):
         """(log_time_ns, decoded message) pairs of ``topic``, in file order."""
         if topic not in self.topics:
-            raise RecordingError(f"{self.path}: no topic {topic}; topics present: "
-                                 f"{', '.join(self.topics) or 'none'}")
+            raise RecordingError(
+                f"{self.path}: no topic {topic}; topics present: {', '.join(self.topics) or 'none'}"
+            )
         schema = self._schemas[topic]
         decoder = DecoderFactory().decoder_for("cdr", schema)
         if decoder is None:
@@ -152,6 +167,7 @@ def read_recording(path: str | Path) -> Recording:
     """
     from mimic.errors import MimicError
     from mimic.files import input_file
+
     try:
         path = input_file(path, "recording", "record one with 'mimic record'")
     except MimicError as err:
@@ -159,8 +175,10 @@ def read_recording(path: str | Path) -> Recording:
     size = path.stat().st_size
     with open(path, "rb") as f:
         if f.read(len(_MAGIC)) != _MAGIC:
-            raise RecordingError(f"{path}: not an MCAP file (it does not start with the MCAP "
-                                 "magic bytes); record one with 'mimic record'")
+            raise RecordingError(
+                f"{path}: not an MCAP file (it does not start with the MCAP "
+                "magic bytes); record one with 'mimic record'"
+            )
         f.seek(0)
         schemas: dict[int, Schema] = {}
         channels: dict[int, Channel] = {}
@@ -178,8 +196,9 @@ def read_recording(path: str | Path) -> Recording:
                     messages.setdefault(topic, []).append((record.log_time, record.data))
                     count += 1
                     last_ns = max(last_ns, record.log_time)
-                    first_ns = record.log_time if first_ns is None else min(first_ns,
-                                                                            record.log_time)
+                    first_ns = (
+                        record.log_time if first_ns is None else min(first_ns, record.log_time)
+                    )
                 elif isinstance(record, Metadata):
                     metadata[record.name] = dict(record.metadata)
                 elif isinstance(record, Footer):
@@ -200,8 +219,9 @@ def read_recording(path: str | Path) -> Recording:
             continue
         times = [t for t, _ in msgs]
         topic_schemas[channel.topic] = schemas[channel.schema_id]
-        topics[channel.topic] = TopicInfo(schemas[channel.schema_id].name, len(msgs),
-                                          min(times), max(times))
+        topics[channel.topic] = TopicInfo(
+            schemas[channel.schema_id].name, len(msgs), min(times), max(times)
+        )
     info = None
     if L.METADATA_NAME in metadata:
         try:
@@ -209,8 +229,14 @@ def read_recording(path: str | Path) -> Recording:
         except (ValueError, TypeError):
             info = None
     origin = _time_origin_ns(metadata, first_ns)
-    report = RecoveryReport(complete, count, (last_ns - origin) / L.NS_PER_S if count else 0.0,
-                            good_bytes, size - good_bytes, problem)
+    report = RecoveryReport(
+        complete,
+        count,
+        (last_ns - origin) / L.NS_PER_S if count else 0.0,
+        good_bytes,
+        size - good_bytes,
+        problem,
+    )
     return Recording(path, info, metadata, topics, report, origin, messages, topic_schemas)
 
 
@@ -228,8 +254,9 @@ def _as_recording(source: str | Path | Recording) -> Recording:
     return source if isinstance(source, Recording) else read_recording(source)
 
 
-def read_joint_table(source: str | Path | Recording, topic: str | None = "/joint_states"
-                     ) -> pl.DataFrame:
+def read_joint_table(
+    source: str | Path | Recording, topic: str | None = "/joint_states"
+) -> pl.DataFrame:
     """The joint samples of ``topic`` as a table in our layout.
 
     Columns: ``time_s`` (float, from the first sample), the N joint names of the recording's
@@ -247,8 +274,9 @@ def read_joint_table(source: str | Path | Recording, topic: str | None = "/joint
     robot = rec.robot
     topic = topic or rec.joint_topic()
     if topic not in rec.topics:
-        raise RecordingError(f"{rec.path}: no joint topic {topic}; topics present: "
-                             f"{', '.join(rec.topics) or 'none'}")
+        raise RecordingError(
+            f"{rec.path}: no joint topic {topic}; topics present: {', '.join(rec.topics) or 'none'}"
+        )
     times, rows, perm, names = [], [], None, None
     for time_ns, msg in rec.decoded(topic):
         if names != list(msg.name):
@@ -259,23 +287,29 @@ def read_joint_table(source: str | Path | Recording, topic: str | None = "/joint
                 unknown = [n for n in names if not robot.has_joint(n)]
                 raise RecordingError(
                     f"{rec.path}: {topic} has wrong joint names ({err}); unknown names: "
-                    f"{', '.join(unknown) or 'none'}") from None
+                    f"{', '.join(unknown) or 'none'}"
+                ) from None
         pos = np.asarray(msg.position, dtype=float)
         if len(pos) != len(names):
-            raise RecordingError(f"{rec.path}: {topic} message at {time_ns / 1e9:.3f} s has "
-                                 f"{len(pos)} positions for {len(names)} joint names")
+            raise RecordingError(
+                f"{rec.path}: {topic} message at {time_ns / 1e9:.3f} s has "
+                f"{len(pos)} positions for {len(names)} joint names"
+            )
         times.append(time_ns)
         rows.append(pos[perm])
     values = np.array(rows, dtype=float).reshape(-1, robot.num_joints)
     t = np.array(times, dtype=np.int64)
     if np.isnan(values).any():
         row, col = np.argwhere(np.isnan(values))[0]
-        raise RecordingError(f"{rec.path}: {topic} holds NaN (first: {robot.joint_names[col]} at "
-                             f"t = {(t[row] - t[0]) / 1e9:.3f} s)")
+        raise RecordingError(
+            f"{rec.path}: {topic} holds NaN (first: {robot.joint_names[col]} at "
+            f"t = {(t[row] - t[0]) / 1e9:.3f} s)"
+        )
     back = np.nonzero(np.diff(t) < 0)[0]
     if len(back):
-        raise RecordingError(f"{rec.path}: time runs backwards in {topic} at "
-                             f"t = {(t[back[0]] - t[0]) / 1e9:.3f} s")
+        raise RecordingError(
+            f"{rec.path}: time runs backwards in {topic} at t = {(t[back[0]] - t[0]) / 1e9:.3f} s"
+        )
     ended = _ended_flags(rec, t)
     table = {TIME_COLUMN: (t - (t[0] if len(t) else 0)) / L.NS_PER_S}
     table.update({name: values[:, i] for i, name in enumerate(robot.joint_names)})
@@ -329,9 +363,12 @@ def read_tf(source: str | Path | Recording, *, in_world: bool = True) -> dict[st
             v, q = tr.transform.translation, tr.transform.rotation
             entry[2].append((v.x, v.y, v.z))
             entry[3].append((q.w, q.x, q.y, q.z))
-    tracks = {child: TfTrack(parent, np.array(t, dtype=np.int64), np.array(p, dtype=float),
-                             np.array(q, dtype=float))
-              for child, (parent, t, p, q) in raw.items()}
+    tracks = {
+        child: TfTrack(
+            parent, np.array(t, dtype=np.int64), np.array(p, dtype=float), np.array(q, dtype=float)
+        )
+        for child, (parent, t, p, q) in raw.items()
+    }
     return world_poses(tracks) if in_world else tracks
 
 
@@ -368,11 +405,14 @@ def describe_recording(path: str | Path) -> dict:
     end = rec.metadata.get(L.END_METADATA_NAME, {})
     warnings = []
     if L.JOINT_STATES not in rec.topics:
-        warnings.append(f"no {L.JOINT_STATES} topic: no joint angles to view or learn "
-                        f"(topics: {', '.join(sorted(rec.topics)) or 'none'})")
+        warnings.append(
+            f"no {L.JOINT_STATES} topic: no joint angles to view or learn "
+            f"(topics: {', '.join(sorted(rec.topics)) or 'none'})"
+        )
     if info is None:
-        warnings.append(f"no '{L.METADATA_NAME}' metadata record: not written by mimic, "
-                        "motion and rate unknown")
+        warnings.append(
+            f"no '{L.METADATA_NAME}' metadata record: not written by mimic, motion and rate unknown"
+        )
     if not rec.recovery.complete:
         warnings.append(rec.recovery.summary())
     start = rec.metadata.get(L.METADATA_NAME, {}).get(L.START_WALL_TIME_KEY)
@@ -391,8 +431,10 @@ def describe_recording(path: str | Path) -> dict:
         "toolkit_version": info.toolkit_version if info else None,
         "duration_s": round(rec.duration_s, 6),
         "rate_hz": round(rec.rate_hz, 3) if rec.joint_topic(required=False) else None,
-        "topics": {name: {"schema": t.schema, "messages": t.count}
-                   for name, t in sorted(rec.topics.items())},
+        "topics": {
+            name: {"schema": t.schema, "messages": t.count}
+            for name, t in sorted(rec.topics.items())
+        },
         "interrupted": rec.interrupted,
         "complete": rec.recovery.complete,
         "recovery": rec.recovery.summary(),
@@ -406,5 +448,7 @@ def describe_recording(path: str | Path) -> dict:
 def _iso_time(time_ns: int) -> str:
     """Wall-clock time [ns since the Unix epoch] as ISO 8601 UTC, to the second."""
     import datetime
-    return datetime.datetime.fromtimestamp(time_ns / L.NS_PER_S, datetime.timezone.utc
-                                           ).isoformat(timespec="seconds")
+
+    return datetime.datetime.fromtimestamp(time_ns / L.NS_PER_S, datetime.timezone.utc).isoformat(
+        timespec="seconds"
+    )

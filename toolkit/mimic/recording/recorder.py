@@ -80,8 +80,9 @@ class TfSampler:
         self.parents = [link.parent or L.WORLD_FRAME for link in links] + [L.WORLD_FRAME]
         self._child_ids = np.array([m.body(n).id for n in self.children])
         # Parent body ids; the world body (id 0) sits at the origin with identity rotation.
-        self._parent_ids = np.array([m.body(link.parent).id if link.parent else 0
-                                     for link in links] + [0])
+        self._parent_ids = np.array(
+            [m.body(link.parent).id if link.parent else 0 for link in links] + [0]
+        )
 
     def sample(self, world: MujocoWorld) -> tuple[np.ndarray, np.ndarray]:
         """(n, 3) positions [m] and (n, 4) quaternions of each child in its parent."""
@@ -105,9 +106,18 @@ class McapObserver(Observer):
         progress: called after each written cycle with (time [s], planned total [s] or None).
     """
 
-    def __init__(self, writer: RecordingWriter, world: MujocoWorld, *, planned_cycles: int,
-                 one_shot: bool, with_references: bool, tf_every: int = 1,
-                 planned_s: float | None = None, progress: Progress | None = None) -> None:
+    def __init__(
+        self,
+        writer: RecordingWriter,
+        world: MujocoWorld,
+        *,
+        planned_cycles: int,
+        one_shot: bool,
+        with_references: bool,
+        tf_every: int = 1,
+        planned_s: float | None = None,
+        progress: Progress | None = None,
+    ) -> None:
         self.writer, self.planned_cycles, self.one_shot = writer, planned_cycles, one_shot
         self.with_references, self.tf_every = with_references, tf_every
         self.planned_s, self.progress = planned_s, progress
@@ -145,11 +155,20 @@ def _ball_offset(agent: Agent, own: bool, given: tuple[float, float] | None):
     return None if offset is None else (float(offset[0]), float(offset[1]))
 
 
-def record(agent: str | Agent, out_path: str | Path, *, duration_s: float | None = None,
-           seed: int = 0, observe_only: bool = False, warmup_s: float | None = None,
-           ball_offset_m: tuple[float, float] | None = None,
-           config: RecordConfig = RecordConfig(), progress: Progress | None = None,
-           compression: str = "zstd", world: World | None = None) -> RecordResult:
+def record(
+    agent: str | Agent,
+    out_path: str | Path,
+    *,
+    duration_s: float | None = None,
+    seed: int = 0,
+    observe_only: bool = False,
+    warmup_s: float | None = None,
+    ball_offset_m: tuple[float, float] | None = None,
+    config: RecordConfig = RecordConfig(),
+    progress: Progress | None = None,
+    compression: str = "zstd",
+    world: World | None = None,
+) -> RecordResult:
     """Run ``agent`` (an agent spec for ``make_agent``, or an Agent) in a fresh world and
     record it.
 
@@ -181,15 +200,27 @@ def record(agent: str | Agent, out_path: str | Path, *, duration_s: float | None
     world = world or MujocoWorld(agent.robot)
     agent.check_robot(world.robot)
     offset = _ball_offset(agent, own, ball_offset_m)
-    scene = Scene(robot_xy_m=(config.start_x_m, config.start_y_m),
-                  robot_yaw_rad=config.start_yaw_rad, posture=agent.start_posture,
-                  ball_offset_m=offset, settle_s=config.settle_s)
+    scene = Scene(
+        robot_xy_m=(config.start_x_m, config.start_y_m),
+        robot_yaw_rad=config.start_yaw_rad,
+        posture=agent.start_posture,
+        ball_offset_m=offset,
+        settle_s=config.settle_s,
+    )
 
     info = L.RecordingInfo(
-        motion=agent.name, agent=type(agent).__name__, team=agent.team,
-        source="observed" if observe_only else "reference", robot=world.robot.name,
-        joint_order=world.robot.joint_names, toolkit_version=__version__, seed=seed,
-        period_s=period_s, ball_offset_m=offset, start_posture=agent.start_posture)
+        motion=agent.name,
+        agent=type(agent).__name__,
+        team=agent.team,
+        source="observed" if observe_only else "reference",
+        robot=world.robot.name,
+        joint_order=world.robot.joint_names,
+        toolkit_version=__version__,
+        seed=seed,
+        period_s=period_s,
+        ball_offset_m=offset,
+        start_posture=agent.start_posture,
+    )
     if period_s is not None:
         periods = max(1, round((duration_s or config.default_periods * period_s) / period_s))
         planned_cycles = int(round(periods * period_s / CYCLE_S))
@@ -199,21 +230,47 @@ def record(agent: str | Agent, out_path: str | Path, *, duration_s: float | None
         planned_cycles = int(round(config.max_duration_s / CYCLE_S)) + 1
     planned_s = (planned_cycles - 1) * CYCLE_S if (period_s or duration_s) else None
 
-    with SigintFlag() as sigint, RecordingWriter(out_path, info, urdf=world.robot.urdf(),
-                                                  flush_period_s=config.flush_period_s,
-                                                  compression=compression) as writer:
+    with (
+        SigintFlag() as sigint,
+        RecordingWriter(
+            out_path,
+            info,
+            urdf=world.robot.urdf(),
+            flush_period_s=config.flush_period_s,
+            compression=compression,
+        ) as writer,
+    ):
         scene.setup(world, np.random.default_rng(seed))
         agent.check_robot(world.robot)
         agent.reset(world.observe())
         if period_s is not None:
-            run(world, agent, max_s=config.cyclic_warmup_s if warmup_s is None else warmup_s,
-                reset=False, stop_when_done=False, stop=lambda w: sigint.raised)
-        mcap = McapObserver(writer, world, planned_cycles=planned_cycles,
-                            one_shot=period_s is None, with_references=not observe_only,
-                            tf_every=config.tf_every, planned_s=planned_s, progress=progress)
-        run(world, agent, max_s=planned_cycles * CYCLE_S, reset=False, observers=(mcap,),
+            run(
+                world,
+                agent,
+                max_s=config.cyclic_warmup_s if warmup_s is None else warmup_s,
+                reset=False,
+                stop_when_done=False,
+                stop=lambda w: sigint.raised,
+            )
+        mcap = McapObserver(
+            writer,
+            world,
+            planned_cycles=planned_cycles,
+            one_shot=period_s is None,
+            with_references=not observe_only,
+            tf_every=config.tf_every,
+            planned_s=planned_s,
+            progress=progress,
+        )
+        run(
+            world,
+            agent,
+            max_s=planned_cycles * CYCLE_S,
+            reset=False,
+            observers=(mcap,),
             stop_when_done=duration_s is None and period_s is None,
-            stop=lambda w: sigint.raised or mcap.finished)
+            stop=lambda w: sigint.raised or mcap.finished,
+        )
         interrupted = mcap.interrupted = sigint.raised
         writer.finish(interrupted=interrupted, samples=mcap.samples)
     return RecordResult(Path(out_path), mcap.samples, mcap.t_last_s, interrupted, info)

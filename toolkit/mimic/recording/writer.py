@@ -53,12 +53,23 @@ class RecordingWriter:
             the new file under its temporary name).
     """
 
-    def __init__(self, path: str | Path, info: L.RecordingInfo, *, urdf: str | None = None,
-                 flush_period_s: float = 0.25, compression: str = "zstd",
-                 start_wall_time_ns: int | None = None, overwrite: bool = True) -> None:
+    def __init__(
+        self,
+        path: str | Path,
+        info: L.RecordingInfo,
+        *,
+        urdf: str | None = None,
+        flush_period_s: float = 0.25,
+        compression: str = "zstd",
+        start_wall_time_ns: int | None = None,
+        overwrite: bool = True,
+    ) -> None:
         self.path = Path(path)
-        kinds = {"zstd": CompressionType.ZSTD, "lz4": CompressionType.LZ4,
-                 "none": CompressionType.NONE}
+        kinds = {
+            "zstd": CompressionType.ZSTD,
+            "lz4": CompressionType.LZ4,
+            "none": CompressionType.NONE,
+        }
         if compression not in kinds:
             raise RecordingError(f"unknown compression {compression!r}; use zstd, lz4 or none")
         try:
@@ -69,18 +80,25 @@ class RecordingWriter:
         except OSError as err:
             self._output.discard()
             raise RecordingError(f"cannot write {self.path}: {err.strerror}") from None
-        self.start_wall_time_ns = int(time.time_ns() if start_wall_time_ns is None
-                                      else start_wall_time_ns)
+        self.start_wall_time_ns = int(
+            time.time_ns() if start_wall_time_ns is None else start_wall_time_ns
+        )
         # A large chunk size: chunks are closed by time (flush_period_s), not by size.
-        self._mcap = Writer(self._file, chunk_size=4 * 1024 * 1024,
-                            compression=kinds[compression], enable_crcs=True,
-                            enable_data_crcs=True)
+        self._mcap = Writer(
+            self._file,
+            chunk_size=4 * 1024 * 1024,
+            compression=kinds[compression],
+            enable_crcs=True,
+            enable_data_crcs=True,
+        )
         self._mcap.start(profile="ros2", library=f"mimic {__version__}")
-        self._schema_ids = {name: self._mcap.register_schema(name, SchemaEncoding.ROS2,
-                                                              text.encode())
-                            for name, text in L.SCHEMAS.items()}
-        self._encoders = {name: serialize_dynamic(name, text)[name]
-                          for name, text in L.SCHEMAS.items()}
+        self._schema_ids = {
+            name: self._mcap.register_schema(name, SchemaEncoding.ROS2, text.encode())
+            for name, text in L.SCHEMAS.items()
+        }
+        self._encoders = {
+            name: serialize_dynamic(name, text)[name] for name, text in L.SCHEMAS.items()
+        }
         self._channels: dict[str, tuple[int, str]] = {}
         self._sequence: dict[str, int] = {}
         self._flush_ns = int(flush_period_s * L.NS_PER_S)
@@ -88,8 +106,10 @@ class RecordingWriter:
         self.last_time_ns = 0
         self.info = info
         self._finished = False
-        self._mcap.add_metadata(L.METADATA_NAME, {
-            **info.to_metadata(), L.START_WALL_TIME_KEY: str(self.start_wall_time_ns)})
+        self._mcap.add_metadata(
+            L.METADATA_NAME,
+            {**info.to_metadata(), L.START_WALL_TIME_KEY: str(self.start_wall_time_ns)},
+        )
         if urdf is not None:
             self.write(L.ROBOT_DESCRIPTION, 0, {"data": urdf})
 
@@ -99,8 +119,9 @@ class RecordingWriter:
         [ns]; a ``header.stamp`` in it is the caller's (give ``stamp_ns(time_ns)``)."""
         name = schema or self._channels.get(topic, (0, L.TOPIC_SCHEMAS.get(topic)))[1]
         if name not in self._encoders:
-            raise RecordingError(f"no schema for topic {topic}; pass schema= one of "
-                                 f"{', '.join(L.SCHEMAS)}")
+            raise RecordingError(
+                f"no schema for topic {topic}; pass schema= one of {', '.join(L.SCHEMAS)}"
+            )
         self.write_cdr(topic, time_ns, self._encoders[name](message), name)
 
     def write_cdr(self, topic: str, time_ns: int, data: bytes, schema: str | None = None) -> None:
@@ -108,15 +129,21 @@ class RecordingWriter:
         simulated ``time_ns`` [ns] (log time: ``stamp_ns(time_ns)``)."""
         if topic not in self._channels:
             name = schema or L.TOPIC_SCHEMAS[topic]
-            channel_id = self._mcap.register_channel(topic, MessageEncoding.CDR,
-                                                     self._schema_ids[name])
+            channel_id = self._mcap.register_channel(
+                topic, MessageEncoding.CDR, self._schema_ids[name]
+            )
             self._channels[topic] = (channel_id, name)
             self._sequence[topic] = 0
         channel_id = self._channels[topic][0]
         time_ns = int(time_ns)
         stamp = self.stamp_ns(time_ns)
-        self._mcap.add_message(channel_id, log_time=stamp, publish_time=stamp, data=data,
-                               sequence=self._sequence[topic])
+        self._mcap.add_message(
+            channel_id,
+            log_time=stamp,
+            publish_time=stamp,
+            data=data,
+            sequence=self._sequence[topic],
+        )
         self._sequence[topic] += 1
         self.last_time_ns = max(self.last_time_ns, time_ns)
         if time_ns - self._last_flush_ns >= self._flush_ns:
@@ -132,29 +159,48 @@ class RecordingWriter:
         self._last_flush_ns = self.last_time_ns
 
     # --- typed helpers ---------------------------------------------------------------------
-    def write_joints(self, time_ns: int, positions_rad: np.ndarray,
-                     velocities_rad_s: np.ndarray | None = None, *,
-                     topic: str = L.JOINT_STATES,
-                     names: Sequence[str] | None = None) -> None:
+    def write_joints(
+        self,
+        time_ns: int,
+        positions_rad: np.ndarray,
+        velocities_rad_s: np.ndarray | None = None,
+        *,
+        topic: str = L.JOINT_STATES,
+        names: Sequence[str] | None = None,
+    ) -> None:
         """A JointState on ``topic``: (N,) positions [rad], optional (N,) speeds [rad/s],
         named ``names`` (default: the recording's ``info.joint_order``, its robot's order)."""
         names = self.info.joint_order if names is None else names
         if len(positions_rad) != len(names):  # another robot's vector: refuse, not corrupt
-            raise RecordingError(f"{topic}: {len(positions_rad)} positions for {len(names)} "
-                                 f"joints of the {self.info.robot}")
-        self.write_cdr(topic, time_ns, cdr.encode_joint_state(self.stamp_ns(time_ns), names,
-                                                              positions_rad, velocities_rad_s),
-                       "sensor_msgs/msg/JointState")
+            raise RecordingError(
+                f"{topic}: {len(positions_rad)} positions for {len(names)} "
+                f"joints of the {self.info.robot}"
+            )
+        self.write_cdr(
+            topic,
+            time_ns,
+            cdr.encode_joint_state(self.stamp_ns(time_ns), names, positions_rad, velocities_rad_s),
+            "sensor_msgs/msg/JointState",
+        )
 
     def write_ended(self, time_ns: int, ended: bool) -> None:
         """The motion-ended flag for the joint sample at ``time_ns``."""
         self.write_cdr(L.ENDED, time_ns, cdr.encode_bool(ended))
 
-    def write_tf(self, time_ns: int, parents: Sequence[str], children: Sequence[str],
-                 pos_m: np.ndarray, quat_wxyz: np.ndarray) -> None:
+    def write_tf(
+        self,
+        time_ns: int,
+        parents: Sequence[str],
+        children: Sequence[str],
+        pos_m: np.ndarray,
+        quat_wxyz: np.ndarray,
+    ) -> None:
         """One TFMessage: child poses (n, 3) [m] and (n, 4) quaternions in their parents."""
-        self.write_cdr(L.TF, time_ns, cdr.encode_tf(self.stamp_ns(time_ns), parents, children,
-                                                    pos_m, quat_wxyz))
+        self.write_cdr(
+            L.TF,
+            time_ns,
+            cdr.encode_tf(self.stamp_ns(time_ns), parents, children, pos_m, quat_wxyz),
+        )
 
     # --- ending ----------------------------------------------------------------------------
     def finish(self, *, interrupted: bool = False, **end_info: str) -> None:
@@ -164,9 +210,11 @@ class RecordingWriter:
             return
         self._finished = True
         try:
-            end = {"interrupted": "true" if interrupted else "false",
-                   "last_time_ns": str(self.last_time_ns),
-                   **{k: str(v) for k, v in end_info.items()}}
+            end = {
+                "interrupted": "true" if interrupted else "false",
+                "last_time_ns": str(self.last_time_ns),
+                **{k: str(v) for k, v in end_info.items()},
+            }
             self._mcap.add_metadata(L.END_METADATA_NAME, end)
             self._mcap.finish()
         except BaseException:

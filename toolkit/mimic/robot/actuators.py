@@ -20,8 +20,14 @@ import numpy as np
 
 from mimic.errors import MimicError
 
-__all__ = ["JointCommand", "SpeedServos", "PDMotors", "ActuatorModel",
-           "MAX_JOINT_SPEED_RAD_S", "DEFAULT_TRACKING_GAIN_PER_S"]
+__all__ = [
+    "JointCommand",
+    "SpeedServos",
+    "PDMotors",
+    "ActuatorModel",
+    "MAX_JOINT_SPEED_RAD_S",
+    "DEFAULT_TRACKING_GAIN_PER_S",
+]
 
 #: The study's simulator caps commanded joint speed at this [rad/s] (7.035 deg per 20 ms).
 MAX_JOINT_SPEED_RAD_S = 6.1395
@@ -77,12 +83,14 @@ class SpeedServos:
     kind = "speed servos"
     takes_speeds = True
 
-    def track(self, reference_rad: np.ndarray, angles_rad: np.ndarray,
-              gain_per_s: float | None = None) -> np.ndarray:
+    def track(
+        self, reference_rad: np.ndarray, angles_rad: np.ndarray, gain_per_s: float | None = None
+    ) -> np.ndarray:
         """(N,) speeds [rad/s] = gain (reference - angle), capped."""
         gain = self.tracking_gain_per_s if gain_per_s is None else gain_per_s
-        return np.clip(gain * (reference_rad - angles_rad),
-                       -self.max_speed_rad_s, self.max_speed_rad_s)
+        return np.clip(
+            gain * (reference_rad - angles_rad), -self.max_speed_rad_s, self.max_speed_rad_s
+        )
 
     def speed_commands(self, command: JointCommand, angles_rad: np.ndarray) -> np.ndarray:
         """(N,) capped speed commands [rad/s] for ``command`` at the current angles."""
@@ -90,8 +98,9 @@ class SpeedServos:
             return np.clip(command.speed_rad_s, -self.max_speed_rad_s, self.max_speed_rad_s)
         return self.track(command.reference_rad, angles_rad)
 
-    def controls(self, command: JointCommand, angles_rad: np.ndarray,
-                 robot_name: str = "") -> np.ndarray:
+    def controls(
+        self, command: JointCommand, angles_rad: np.ndarray, robot_name: str = ""
+    ) -> np.ndarray:
         """(N,) MuJoCo controls: the velocity servos' speed commands [rad/s]."""
         return self.speed_commands(command, angles_rad)
 
@@ -119,12 +128,15 @@ class PDMotors:
     def targets(self, command: JointCommand, robot_name: str = "this robot") -> np.ndarray:
         """(N,) position targets [rad]; a speed command is refused with one clear line."""
         if command.reference_rad is None:
-            raise MimicError(f"{robot_name} has PD motors, which take joint references; this "
-                             "agent sends joint speeds (a NAO-only controller)")
+            raise MimicError(
+                f"{robot_name} has PD motors, which take joint references; this "
+                "agent sends joint speeds (a NAO-only controller)"
+            )
         return command.reference_rad
 
-    def controls(self, command: JointCommand, angles_rad: np.ndarray,
-                 robot_name: str = "this robot") -> np.ndarray:
+    def controls(
+        self, command: JointCommand, angles_rad: np.ndarray, robot_name: str = "this robot"
+    ) -> np.ndarray:
         """(N,) MuJoCo controls: the position actuators' targets [rad] (their kp and kv are
         the motors' gains, so MuJoCo applies the PD law every physics step)."""
         return self.targets(command, robot_name)

@@ -11,8 +11,15 @@ from dataclasses import dataclass
 
 from mimic.robot.joints import JOINTS, Joint
 
-__all__ = ["Body", "BODIES", "SOLE_HEIGHT_M", "TORSO_STAND_HEIGHT_M", "body_by_name",
-           "joint_axis", "total_mass_kg"]
+__all__ = [
+    "Body",
+    "BODIES",
+    "SOLE_HEIGHT_M",
+    "TORSO_STAND_HEIGHT_M",
+    "body_by_name",
+    "joint_axis",
+    "total_mass_kg",
+]
 
 #: Sole below the torso centre at the zero pose [m].
 SOLE_HEIGHT_M = 0.385
@@ -68,6 +75,7 @@ _S = 0.7071067811865476
 
 def _side_bodies(side: str, s: float) -> list[Body]:
     """Arm and leg bodies of one side; ``s`` is +1 for right (RSG +X) and -1 for left."""
+
     def p(x, y, z):
         return _rsg(s * x, y, z)
 
@@ -77,37 +85,158 @@ def _side_bodies(side: str, s: float) -> list[Body]:
     ankle_p, ankle_r = p(0.055, -0.005, -0.335), p(0.055, -0.005, -0.34)
     n = f"{side}_"
     return [
-        Body(n + "shoulder", "torso", n + "shoulder_pitch", sh, _PITCH, "sphere", (0.01,), sh,
-             0.070, False),
-        Body(n + "upper_arm", n + "shoulder", n + "shoulder_roll", sh, _YAW, "box",
-             _box(0.07, 0.08, 0.06), p(0.108, 0.02, 0.075), 0.150, True),
-        Body(n + "elbow", n + "upper_arm", n + "elbow_yaw", el, _ROLL, "sphere", (0.01,), el,
-             0.035, False),
-        Body(n + "lower_arm", n + "elbow", n + "elbow_roll", el, _YAW, "box",
-             _box(0.05, 0.11, 0.05), p(0.098, 0.14, 0.084), 0.200, True),
-        Body(n + "hip1", "torso", n + "hip_yaw_pitch", hip, hyp_axis, "sphere", (0.01,), hip,
-             0.090, False),
-        Body(n + "hip2", n + "hip1", n + "hip_roll", hip, _ROLL, "sphere", (0.01,), hip,
-             0.125, False),
-        Body(n + "thigh", n + "hip2", n + "hip_pitch", hip, _PITCH, "box",
-             _box(0.07, 0.07, 0.14), p(0.055, 0.0, -0.155), 0.275, True),
-        Body(n + "shank", n + "thigh", n + "knee_pitch", knee, _PITCH, "box",
-             _box(0.08, 0.07, 0.11), p(0.055, 0.005, -0.28), 0.225, True),
-        Body(n + "ankle", n + "shank", n + "ankle_pitch", ankle_p, _PITCH, "sphere", (0.01,),
-             ankle_p, 0.125, False),
-        Body(n + "foot", n + "ankle", n + "ankle_roll", ankle_r, _ROLL, "box",
-             _box(0.08, 0.16, 0.02), p(0.055, 0.025, -0.375), 0.200, True),
+        Body(
+            n + "shoulder",
+            "torso",
+            n + "shoulder_pitch",
+            sh,
+            _PITCH,
+            "sphere",
+            (0.01,),
+            sh,
+            0.070,
+            False,
+        ),
+        Body(
+            n + "upper_arm",
+            n + "shoulder",
+            n + "shoulder_roll",
+            sh,
+            _YAW,
+            "box",
+            _box(0.07, 0.08, 0.06),
+            p(0.108, 0.02, 0.075),
+            0.150,
+            True,
+        ),
+        Body(
+            n + "elbow",
+            n + "upper_arm",
+            n + "elbow_yaw",
+            el,
+            _ROLL,
+            "sphere",
+            (0.01,),
+            el,
+            0.035,
+            False,
+        ),
+        Body(
+            n + "lower_arm",
+            n + "elbow",
+            n + "elbow_roll",
+            el,
+            _YAW,
+            "box",
+            _box(0.05, 0.11, 0.05),
+            p(0.098, 0.14, 0.084),
+            0.200,
+            True,
+        ),
+        Body(
+            n + "hip1",
+            "torso",
+            n + "hip_yaw_pitch",
+            hip,
+            hyp_axis,
+            "sphere",
+            (0.01,),
+            hip,
+            0.090,
+            False,
+        ),
+        Body(
+            n + "hip2", n + "hip1", n + "hip_roll", hip, _ROLL, "sphere", (0.01,), hip, 0.125, False
+        ),
+        Body(
+            n + "thigh",
+            n + "hip2",
+            n + "hip_pitch",
+            hip,
+            _PITCH,
+            "box",
+            _box(0.07, 0.07, 0.14),
+            p(0.055, 0.0, -0.155),
+            0.275,
+            True,
+        ),
+        Body(
+            n + "shank",
+            n + "thigh",
+            n + "knee_pitch",
+            knee,
+            _PITCH,
+            "box",
+            _box(0.08, 0.07, 0.11),
+            p(0.055, 0.005, -0.28),
+            0.225,
+            True,
+        ),
+        Body(
+            n + "ankle",
+            n + "shank",
+            n + "ankle_pitch",
+            ankle_p,
+            _PITCH,
+            "sphere",
+            (0.01,),
+            ankle_p,
+            0.125,
+            False,
+        ),
+        Body(
+            n + "foot",
+            n + "ankle",
+            n + "ankle_roll",
+            ankle_r,
+            _ROLL,
+            "box",
+            _box(0.08, 0.16, 0.02),
+            p(0.055, 0.025, -0.375),
+            0.200,
+            True,
+        ),
     ]
 
 
 #: Every body, parents before children.
 BODIES: tuple[Body, ...] = (
-    Body("torso", None, None, (0, 0, 0), (0, 0, 1), "box", _box(0.10, 0.10, 0.18), (0, 0, 0),
-         1.2171, True),
-    Body("neck", "torso", "head_yaw", (0, 0, 0.09), _YAW, "capsule", (0.015, 0.08),
-         (0, 0, 0.09), 0.050, True),
-    Body("head", "neck", "head_pitch", (0, 0, 0.15), _PITCH, "sphere", (0.065,), (0, 0, 0.155),
-         0.350, True),
+    Body(
+        "torso",
+        None,
+        None,
+        (0, 0, 0),
+        (0, 0, 1),
+        "box",
+        _box(0.10, 0.10, 0.18),
+        (0, 0, 0),
+        1.2171,
+        True,
+    ),
+    Body(
+        "neck",
+        "torso",
+        "head_yaw",
+        (0, 0, 0.09),
+        _YAW,
+        "capsule",
+        (0.015, 0.08),
+        (0, 0, 0.09),
+        0.050,
+        True,
+    ),
+    Body(
+        "head",
+        "neck",
+        "head_pitch",
+        (0, 0, 0.15),
+        _PITCH,
+        "sphere",
+        (0.065,),
+        (0, 0, 0.155),
+        0.350,
+        True,
+    ),
     *_side_bodies("left", -1.0),
     *_side_bodies("right", +1.0),
 )

@@ -61,10 +61,12 @@ def _deg(lo: float, hi: float) -> tuple[float, float]:
 
 def _pair(part: str, sim: str, group: str, left_deg, right_deg, mirror_sign: int):
     """Left and right joints of one kind; the left one first, as in the study's order."""
-    left = Joint(f"left_{part}", f"l{sim}", f"left_{group}", *_deg(*left_deg),
-                 f"right_{part}", mirror_sign)
-    right = Joint(f"right_{part}", f"r{sim}", f"right_{group}", *_deg(*right_deg),
-                  f"left_{part}", mirror_sign)
+    left = Joint(
+        f"left_{part}", f"l{sim}", f"left_{group}", *_deg(*left_deg), f"right_{part}", mirror_sign
+    )
+    right = Joint(
+        f"right_{part}", f"r{sim}", f"right_{group}", *_deg(*right_deg), f"left_{part}", mirror_sign
+    )
     return left, right
 
 

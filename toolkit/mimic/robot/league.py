@@ -53,9 +53,21 @@ class _Tuning:
 
 
 #: A joint's kind is the one of these its name contains (``ALeft_Shoulder_Pitch``).
-_KINDS = ("Head_yaw", "Head_pitch", "Shoulder_Pitch", "Shoulder_Roll", "Elbow_Pitch",
-          "Elbow_Yaw", "Waist", "Hip_Pitch", "Hip_Roll", "Hip_Yaw", "Knee_Pitch",
-          "Ankle_Pitch", "Ankle_Roll")
+_KINDS = (
+    "Head_yaw",
+    "Head_pitch",
+    "Shoulder_Pitch",
+    "Shoulder_Roll",
+    "Elbow_Pitch",
+    "Elbow_Yaw",
+    "Waist",
+    "Hip_Pitch",
+    "Hip_Roll",
+    "Hip_Yaw",
+    "Knee_Pitch",
+    "Ankle_Pitch",
+    "Ankle_Roll",
+)
 
 # Ready pose (Booster's own default): knees bent 0.4 rad, hip and ankle pitch sharing it so
 # the soles stay parallel to the upright torso; the knees' and ankles' sag under the load
@@ -64,27 +76,57 @@ _KINDS = ("Head_yaw", "Head_pitch", "Shoulder_Pitch", "Shoulder_Roll", "Elbow_Pi
 _T1 = _Tuning(
     title="Booster T1 (RoboCup league)",
     folder="T1",
-    stand_rad={"Hip_Pitch": -0.2, "Knee_Pitch": 0.4, "Ankle_Pitch": -0.2,
-               "Shoulder_Pitch": 0.2, "Shoulder_Roll": -1.35, "Elbow_Yaw": -0.5},
-    gains={"Head_yaw": (20, 0.5), "Head_pitch": (20, 0.5),
-           "Shoulder_Pitch": (40, 1), "Shoulder_Roll": (40, 1),
-           "Elbow_Pitch": (30, 1), "Elbow_Yaw": (30, 1),
-           "Waist": (150, 4),
-           "Hip_Pitch": (200, 5), "Hip_Roll": (200, 5), "Hip_Yaw": (150, 4),
-           "Knee_Pitch": (200, 5), "Ankle_Pitch": (200, 4), "Ankle_Roll": (50, 1.5)},
+    stand_rad={
+        "Hip_Pitch": -0.2,
+        "Knee_Pitch": 0.4,
+        "Ankle_Pitch": -0.2,
+        "Shoulder_Pitch": 0.2,
+        "Shoulder_Roll": -1.35,
+        "Elbow_Yaw": -0.5,
+    },
+    gains={
+        "Head_yaw": (20, 0.5),
+        "Head_pitch": (20, 0.5),
+        "Shoulder_Pitch": (40, 1),
+        "Shoulder_Roll": (40, 1),
+        "Elbow_Pitch": (30, 1),
+        "Elbow_Yaw": (30, 1),
+        "Waist": (150, 4),
+        "Hip_Pitch": (200, 5),
+        "Hip_Roll": (200, 5),
+        "Hip_Yaw": (150, 4),
+        "Knee_Pitch": (200, 5),
+        "Ankle_Pitch": (200, 4),
+        "Ankle_Roll": (50, 1.5),
+    },
 )
 # The K1 (two thirds of the T1's mass, shorter legs): the same legs, arms out as Booster
 # has them; gains scaled down with the load.
 _K1 = _Tuning(
     title="Booster K1 (RoboCup league)",
     folder="K1",
-    stand_rad={"Hip_Pitch": -0.2, "Knee_Pitch": 0.4, "Ankle_Pitch": -0.2,
-               "Shoulder_Pitch": 0.2, "Shoulder_Roll": -1.3, "Elbow_Yaw": -0.3},
-    gains={"Head_yaw": (10, 0.3), "Head_pitch": (10, 0.3),
-           "Shoulder_Pitch": (20, 0.5), "Shoulder_Roll": (20, 0.5),
-           "Elbow_Pitch": (20, 0.5), "Elbow_Yaw": (20, 0.5),
-           "Hip_Pitch": (120, 3), "Hip_Roll": (120, 3), "Hip_Yaw": (80, 2),
-           "Knee_Pitch": (120, 3), "Ankle_Pitch": (100, 2.5), "Ankle_Roll": (40, 1)},
+    stand_rad={
+        "Hip_Pitch": -0.2,
+        "Knee_Pitch": 0.4,
+        "Ankle_Pitch": -0.2,
+        "Shoulder_Pitch": 0.2,
+        "Shoulder_Roll": -1.3,
+        "Elbow_Yaw": -0.3,
+    },
+    gains={
+        "Head_yaw": (10, 0.3),
+        "Head_pitch": (10, 0.3),
+        "Shoulder_Pitch": (20, 0.5),
+        "Shoulder_Roll": (20, 0.5),
+        "Elbow_Pitch": (20, 0.5),
+        "Elbow_Yaw": (20, 0.5),
+        "Hip_Pitch": (120, 3),
+        "Hip_Roll": (120, 3),
+        "Hip_Yaw": (80, 2),
+        "Knee_Pitch": (120, 3),
+        "Ankle_Pitch": (100, 2.5),
+        "Ankle_Roll": (40, 1),
+    },
 )
 _TUNING = {"t1": _T1, "k1": _K1}
 #: Names of the league robots.
@@ -101,8 +143,9 @@ def league_mjcf_path(name: str) -> Path:
     try:
         package = resources.files("rcsssmj")
     except ModuleNotFoundError:
-        raise MimicError(f"the {name} robot comes with the league simulator: pip install "
-                         "rcsssmj") from None
+        raise MimicError(
+            f"the {name} robot comes with the league simulator: pip install rcsssmj"
+        ) from None
     path = Path(str(package / "resources" / "robots" / _TUNING[name].folder / "robot.xml"))
     if not path.is_file():
         raise MimicError(f"rcsssmj has no {path}; pip install --upgrade rcsssmj")
@@ -120,10 +163,13 @@ def _stand_pose(mjcf: MjcfRobot, table: dict[str, float]) -> tuple[float, ...]:
     """(N,) stand pose [rad]: left and centre joints from the table (0 if not in it), right
     joints the mirror of their left joint, so the pose is its own mirror image."""
     return tuple(
-        float(table.get(_kind(h.name), 0.0)
-              * (mjcf.mirror_sign[h.name] if mjcf.group[h.name].startswith("right_") else 1))
+        float(
+            table.get(_kind(h.name), 0.0)
+            * (mjcf.mirror_sign[h.name] if mjcf.group[h.name].startswith("right_") else 1)
+        )
         + 0.0  # no -0.0 in printed poses
-        for h in mjcf.hinges)
+        for h in mjcf.hinges
+    )
 
 
 def _gains(mjcf: MjcfRobot, table: dict[str, tuple[float, float]]) -> np.ndarray:
@@ -138,8 +184,9 @@ def league_robot(name: str) -> RobotDescription:
     """The league robot ``t1`` or ``k1`` (any case; read once, then cached)."""
     key = name.lower()
     if key not in _TUNING:
-        raise MimicError(f"unknown league robot {name!r}; league robots: "
-                         f"{', '.join(LEAGUE_ROBOTS)}")
+        raise MimicError(
+            f"unknown league robot {name!r}; league robots: {', '.join(LEAGUE_ROBOTS)}"
+        )
     return _league_robot(key)
 
 
@@ -149,23 +196,39 @@ def _league_robot(key: str) -> RobotDescription:
     mjcf = read_mjcf(path)
     stand, gains = _stand_pose(mjcf, tuning.stand_rad), _gains(mjcf, tuning.gains)
     joints = tuple(
-        JointSpec(h.name, h.lower_rad, h.upper_rad, h.axis, h.parent_link, h.child_link,
-                  mjcf.mirror[h.name], mjcf.mirror_sign[h.name], mjcf.group[h.name])
-        for h in mjcf.hinges)
-    height = stand_height_m(path, mjcf.links[0].name, mjcf.foot_links,
-                            {h.name: q for h, q in zip(mjcf.hinges, stand)})
+        JointSpec(
+            h.name,
+            h.lower_rad,
+            h.upper_rad,
+            h.axis,
+            h.parent_link,
+            h.child_link,
+            mjcf.mirror[h.name],
+            mjcf.mirror_sign[h.name],
+            mjcf.group[h.name],
+        )
+        for h in mjcf.hinges
+    )
+    height = stand_height_m(
+        path, mjcf.links[0].name, mjcf.foot_links, {h.name: q for h, q in zip(mjcf.hinges, stand)}
+    )
     return RobotDescription(
         name=key,
         title=tuning.title,
         joints=joints,
         links=mjcf.links,
         stand_pose_rad=stand,
-        actuator=PDMotors(kp_nm_rad=_readonly(gains[:, 0]), kd_nm_s_rad=_readonly(gains[:, 1]),
-                          max_torque_nm=_readonly([h.max_torque_nm for h in mjcf.hinges])),
-        falls=FallThresholds(fallen_below_m=_FALLEN_BELOW * height,
-                             fallen_tilt_rad=_FALLEN_TILT,
-                             upright_above_m=_UPRIGHT_ABOVE * height,
-                             upright_tilt_rad=_UPRIGHT_TILT),
+        actuator=PDMotors(
+            kp_nm_rad=_readonly(gains[:, 0]),
+            kd_nm_s_rad=_readonly(gains[:, 1]),
+            max_torque_nm=_readonly([h.max_torque_nm for h in mjcf.hinges]),
+        ),
+        falls=FallThresholds(
+            fallen_below_m=_FALLEN_BELOW * height,
+            fallen_tilt_rad=_FALLEN_TILT,
+            upright_above_m=_UPRIGHT_ABOVE * height,
+            upright_tilt_rad=_UPRIGHT_TILT,
+        ),
         imu_site=mjcf.imu_site,
         foot_links=mjcf.foot_links,
         urdf=partial(mjcf_urdf, path, f"booster_{key}"),

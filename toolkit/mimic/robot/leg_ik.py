@@ -28,12 +28,19 @@ import numpy as np
 from mimic.robot.description import body_by_name
 from mimic.robot.joints import joint_index, lower_limits_rad, upper_limits_rad
 
-__all__ = ["LegGeometry", "leg_geometry", "leg_ik", "leg_fk", "leg_joint_indices",
-           "sole_to_ankle", "rpy_matrix", "LEG_JOINTS"]
+__all__ = [
+    "LegGeometry",
+    "leg_geometry",
+    "leg_ik",
+    "leg_fk",
+    "leg_joint_indices",
+    "sole_to_ankle",
+    "rpy_matrix",
+    "LEG_JOINTS",
+]
 
 #: Joint name suffixes of one leg, in chain (and joint table) order.
-LEG_JOINTS = ("hip_yaw_pitch", "hip_roll", "hip_pitch", "knee_pitch", "ankle_pitch",
-              "ankle_roll")
+LEG_JOINTS = ("hip_yaw_pitch", "hip_roll", "hip_pitch", "knee_pitch", "ankle_pitch", "ankle_roll")
 
 
 def _rx(a: float) -> np.ndarray:
@@ -54,9 +61,13 @@ def _rz(a: float) -> np.ndarray:
 def _axis_angle(axis: np.ndarray, a: float) -> np.ndarray:
     x, y, z = axis
     c, s, t = math.cos(a), math.sin(a), 1 - math.cos(a)
-    return np.array([[t * x * x + c, t * x * y - s * z, t * x * z + s * y],
-                     [t * x * y + s * z, t * y * y + c, t * y * z - s * x],
-                     [t * x * z - s * y, t * y * z + s * x, t * z * z + c]])
+    return np.array(
+        [
+            [t * x * x + c, t * x * y - s * z, t * x * z + s * y],
+            [t * x * y + s * z, t * y * y + c, t * y * z - s * x],
+            [t * x * z - s * y, t * y * z + s * x, t * z * z + c],
+        ]
+    )
 
 
 def rpy_matrix(roll: float, pitch: float, yaw: float) -> np.ndarray:
@@ -92,6 +103,7 @@ class LegGeometry:
     def __post_init__(self) -> None:
         def put(name, value):
             object.__setattr__(self, name, value)
+
         put("hip_f", tuple(float(v) for v in self.hip))
         put("thigh_f", tuple(float(v) for v in self.thigh))
         put("shank_f", tuple(float(v) for v in self.shank))
@@ -103,8 +115,9 @@ class LegGeometry:
         put("cos_sigma", math.cos(self.sigma_rad))
         put("sin_sigma", math.sin(self.sigma_rad))
         # +1 if the yaw-pitch axis is Rx(sigma) z, -1 if it is -Rx(sigma) z.
-        put("hyp_sign", 1.0 if float(np.dot(_rx(self.sigma_rad)[:, 2], self.hyp_axis)) > 0
-            else -1.0)
+        put(
+            "hyp_sign", 1.0 if float(np.dot(_rx(self.sigma_rad)[:, 2], self.hyp_axis)) > 0 else -1.0
+        )
 
 
 def _make_geometry(side: str) -> LegGeometry:
@@ -119,11 +132,18 @@ def _make_geometry(side: str) -> LegGeometry:
     if abs(sigma) > math.pi / 2:
         sigma = math.atan2(axis[1], -axis[2])
     idx = leg_joint_indices(side)
-    return LegGeometry(side=1 if side == "left" else -1, hip=hip, hyp_axis=axis,
-                       thigh=knee - hip, shank=ankle_p - knee, ankle=ankle_r - ankle_p,
-                       sole=sole, sigma_rad=sigma,
-                       lower_rad=lower_limits_rad()[idx].copy(),
-                       upper_rad=upper_limits_rad()[idx].copy())
+    return LegGeometry(
+        side=1 if side == "left" else -1,
+        hip=hip,
+        hyp_axis=axis,
+        thigh=knee - hip,
+        shank=ankle_p - knee,
+        ankle=ankle_r - ankle_p,
+        sole=sole,
+        sigma_rad=sigma,
+        lower_rad=lower_limits_rad()[idx].copy(),
+        upper_rad=upper_limits_rad()[idx].copy(),
+    )
 
 
 def leg_joint_indices(side: str) -> np.ndarray:
@@ -194,11 +214,13 @@ def _solve(g: LegGeometry, ap, rot) -> list[float]:
     # Columns of B = Rx(-q6) Ry(a): needed rows of rot @ B, then Rx(-sigma).
     a = q4 + q5
     ca, sa = math.cos(a), math.sin(a)
-    b0 = (ca, -s6 * sa, -c6 * sa)       # column 0 of Rx(-q6) Ry(a)
-    b1 = (0.0, c6, -s6)                 # column 1
-    b2 = (sa, s6 * ca, c6 * ca)         # column 2
+    b0 = (ca, -s6 * sa, -c6 * sa)  # column 0 of Rx(-q6) Ry(a)
+    b1 = (0.0, c6, -s6)  # column 1
+    b2 = (sa, s6 * ca, c6 * ca)  # column 2
+
     def rb(row, col):
         return row[0] * col[0] + row[1] * col[1] + row[2] * col[2]
+
     row0, row1, row2 = (r00, r01, r02), (r10, r11, r12), (r20, r21, r22)
     cs, ss = g.cos_sigma, g.sin_sigma
     # Rows of Rx(-sigma): (1,0,0), (0, cs, ss), (0, -ss, cs).
@@ -217,8 +239,14 @@ def _wrap(a: float) -> float:
     return (a + math.pi) % (2 * math.pi) - math.pi
 
 
-def leg_ik(side: str, ankle_pos_m: np.ndarray, rot: np.ndarray | None = None, *,
-           clip_to_limits: bool = True, passes: int = 3) -> np.ndarray:
+def leg_ik(
+    side: str,
+    ankle_pos_m: np.ndarray,
+    rot: np.ndarray | None = None,
+    *,
+    clip_to_limits: bool = True,
+    passes: int = 3,
+) -> np.ndarray:
     """Six leg angles [rad] (chain order) placing the foot frame at a pose.
 
     Args:
@@ -241,8 +269,7 @@ def leg_ik(side: str, ankle_pos_m: np.ndarray, rot: np.ndarray | None = None, *,
         # Ankle-pitch anchor = ankle-roll anchor - rot Rx(-q6) (ankle offset).
         c6, s6 = math.cos(q[5]), math.sin(q[5])
         o = (ax, s6 * az, c6 * az)
-        ap = [t - (r[0] * o[0] + r[1] * o[1] + r[2] * o[2])
-              for t, r in zip((tx, ty, tz), rot_l)]
+        ap = [t - (r[0] * o[0] + r[1] * o[1] + r[2] * o[2]) for t, r in zip((tx, ty, tz), rot_l)]
         q = _solve(g, ap, rot_l)
     out = np.array(q)
     if clip_to_limits:

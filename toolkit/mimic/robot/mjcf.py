@@ -14,8 +14,14 @@ from mimic.robot.actuators import SpeedServos
 from mimic.robot.description import BODIES, Body
 from mimic.robot.joints import JOINTS
 
-__all__ = ["robot_worldbody_xml", "robot_actuator_xml", "robot_sensor_xml",
-           "robot_default_xml", "FOOT_SITES", "IMU_SITE"]
+__all__ = [
+    "robot_worldbody_xml",
+    "robot_actuator_xml",
+    "robot_sensor_xml",
+    "robot_default_xml",
+    "FOOT_SITES",
+    "IMU_SITE",
+]
 
 #: Sites under the soles carrying the foot-contact (touch) sensors, left then right.
 FOOT_SITES = ("left_sole", "right_sole")
@@ -36,14 +42,20 @@ def _geom_xml(body: Body) -> str:
     cls = "collide" if body.collides else "visual"
     if body.shape == "box":
         size = _f(s / 2 for s in body.size)
-        return (f'<geom name="{body.name}" class="{cls}" type="box" size="{size}" '
-                f'pos="{_f(pos)}" mass="{body.mass_kg}"/>')
+        return (
+            f'<geom name="{body.name}" class="{cls}" type="box" size="{size}" '
+            f'pos="{_f(pos)}" mass="{body.mass_kg}"/>'
+        )
     if body.shape == "sphere":
-        return (f'<geom name="{body.name}" class="{cls}" type="sphere" size="{body.size[0]}" '
-                f'pos="{_f(pos)}" mass="{body.mass_kg}"/>')
+        return (
+            f'<geom name="{body.name}" class="{cls}" type="sphere" size="{body.size[0]}" '
+            f'pos="{_f(pos)}" mass="{body.mass_kg}"/>'
+        )
     radius, length = body.size
-    return (f'<geom name="{body.name}" class="{cls}" type="capsule" size="{radius} {length / 2}" '
-            f'pos="{_f(pos)}" mass="{body.mass_kg}"/>')
+    return (
+        f'<geom name="{body.name}" class="{cls}" type="capsule" size="{radius} {length / 2}" '
+        f'pos="{_f(pos)}" mass="{body.mass_kg}"/>'
+    )
 
 
 def _body_xml(body: Body, children: dict[str, list[Body]], parent_anchor, indent: str) -> str:
@@ -82,8 +94,11 @@ def robot_worldbody_xml(torso_pos_m=(0.0, 0.0, 0.385)) -> str:
             children.setdefault(b.parent, []).append(b)
     torso = BODIES[0]
     xml = _body_xml(torso, children, (0.0, 0.0, 0.0), "    ")
-    return xml.replace(f'<body name="torso" pos="{_f((0, 0, 0))}">',
-                       f'<body name="torso" pos="{_f(torso_pos_m)}">', 1)
+    return xml.replace(
+        f'<body name="torso" pos="{_f((0, 0, 0))}">',
+        f'<body name="torso" pos="{_f(torso_pos_m)}">',
+        1,
+    )
 
 
 def robot_default_xml(config: SpeedServos = SpeedServos()) -> str:
@@ -110,7 +125,7 @@ def robot_actuator_xml(config: SpeedServos = SpeedServos()) -> str:
     """One velocity servo per joint, in joint-table order (actuator i drives JOINTS[i])."""
     v, t = config.max_speed_rad_s, config.max_torque_nm
     rows = [
-        f'    <velocity name={quoteattr(j.name)} joint={quoteattr(j.name)} '
+        f"    <velocity name={quoteattr(j.name)} joint={quoteattr(j.name)} "
         f'kv="{config.kv_nm_s_rad}" ctrlrange="{-v} {v}" forcerange="{-t} {t}"/>'
         for j in JOINTS
     ]

@@ -24,13 +24,28 @@ import numpy as np
 from mimic.errors import MimicError
 from mimic.robot.model import LinkSpec
 
-__all__ = ["MjcfRobot", "MjcfHinge", "read_mjcf", "load_model", "mirror_name", "sole_box",
-           "stand_height_m", "collision_geoms", "geom_box_corners"]
+__all__ = [
+    "MjcfRobot",
+    "MjcfHinge",
+    "read_mjcf",
+    "load_model",
+    "mirror_name",
+    "sole_box",
+    "stand_height_m",
+    "collision_geoms",
+    "geom_box_corners",
+]
 
 _SAGITTAL = np.array([1.0, -1.0, 1.0])  # the reflection y -> -y, as a diagonal
 _SIDE = re.compile(r"Left|Right|left|right|LEFT|RIGHT")
-_SWAP = {"Left": "Right", "Right": "Left", "left": "right", "right": "left",
-         "LEFT": "RIGHT", "RIGHT": "LEFT"}
+_SWAP = {
+    "Left": "Right",
+    "Right": "Left",
+    "left": "right",
+    "right": "left",
+    "LEFT": "RIGHT",
+    "RIGHT": "LEFT",
+}
 
 
 def mirror_name(name: str) -> str:
@@ -96,23 +111,37 @@ def read_mjcf(path: Path) -> MjcfRobot:
     m = load_model(path)
     d = mujoco.MjData(m)
     mujoco.mj_kinematics(m, d)  # zero pose: the mirror-symmetric configuration
+
     def body(b) -> str:
         return m.body(int(b)).name
 
     hinges = tuple(
-        MjcfHinge(m.joint(j).name, float(m.jnt_range[j, 0]), float(m.jnt_range[j, 1]),
-                  _unit(m.jnt_axis[j]), _unit(d.xaxis[j]),
-                  body(m.body_parentid[m.jnt_bodyid[j]]), body(m.jnt_bodyid[j]),
-                  float(m.jnt_actfrcrange[j, 1]))
-        for j in range(m.njnt) if m.jnt_type[j] == mujoco.mjtJoint.mjJNT_HINGE)
+        MjcfHinge(
+            m.joint(j).name,
+            float(m.jnt_range[j, 0]),
+            float(m.jnt_range[j, 1]),
+            _unit(m.jnt_axis[j]),
+            _unit(d.xaxis[j]),
+            body(m.body_parentid[m.jnt_bodyid[j]]),
+            body(m.jnt_bodyid[j]),
+            float(m.jnt_actfrcrange[j, 1]),
+        )
+        for j in range(m.njnt)
+        if m.jnt_type[j] == mujoco.mjtJoint.mjJNT_HINGE
+    )
     roots = [b for b in range(1, m.nbody) if m.body_parentid[b] == 0]
     if len(roots) != 1:
         raise MimicError(f"{path}: expected one robot root body, found {len(roots)}")
     links = tuple(
-        LinkSpec(body(b), None if m.body_parentid[b] == 0 else body(m.body_parentid[b]),
-                 tuple(float(v) for v in m.body_pos[b]),
-                 tuple(float(v) for v in m.body_quat[b]), float(m.body_mass[b]))
-        for b in range(1, m.nbody))
+        LinkSpec(
+            body(b),
+            None if m.body_parentid[b] == 0 else body(m.body_parentid[b]),
+            tuple(float(v) for v in m.body_pos[b]),
+            tuple(float(v) for v in m.body_quat[b]),
+            float(m.body_mass[b]),
+        )
+        for b in range(1, m.nbody)
+    )
     mirror, sign = _mirrors(path, hinges)
     group, feet = _groups(m, d, hinges)
     return MjcfRobot(path, hinges, links, mirror, sign, group, feet, _imu_site(m, path))
@@ -129,25 +158,25 @@ def _mirrors(path: Path, hinges) -> tuple[dict[str, str], dict[str, int]]:
     for h in hinges:
         other = by_name.get(mirror_name(h.name))
         if other is None:
-            raise MimicError(f"{path}: joint {h.name} has no mirror joint "
-                             f"{mirror_name(h.name)}")
+            raise MimicError(f"{path}: joint {h.name} has no mirror joint {mirror_name(h.name)}")
         dot = float(np.dot(other.world_axis, _SAGITTAL * np.array(h.world_axis)))
         if abs(abs(dot) - 1) > 0.01:  # the axes must be mirror images, up to direction
-            raise MimicError(f"{path}: joints {h.name} and {other.name} are not mirror "
-                             f"images (axes {h.world_axis}, {other.world_axis})")
+            raise MimicError(
+                f"{path}: joints {h.name} and {other.name} are not mirror "
+                f"images (axes {h.world_axis}, {other.world_axis})"
+            )
         mirror[h.name], sign[h.name] = other.name, -round(dot)
     return mirror, sign
 
 
-def _groups(m: mujoco.MjModel, d: mujoco.MjData, hinges) -> tuple[dict[str, str],
-                                                                  tuple[str, str]]:
+def _groups(m: mujoco.MjModel, d: mujoco.MjData, hinges) -> tuple[dict[str, str], tuple[str, str]]:
     """Limb of every joint, from the chains root -> leaf: the two lowest leaves are the feet,
     the highest the head, the others hands; sides by the sign of y at the zero pose."""
     parents = set(m.body_parentid[1:].tolist())
-    leaves = sorted((b for b in range(1, m.nbody) if b not in parents),
-                    key=lambda b: d.xpos[b, 2])
+    leaves = sorted((b for b in range(1, m.nbody) if b not in parents), key=lambda b: d.xpos[b, 2])
     if len(leaves) < 4:
         raise MimicError("expected a humanoid: two feet, a head and hands as leaf bodies")
+
     def side(b) -> str:
         return "left" if d.xpos[b, 1] > 0 else "right"
 
@@ -163,8 +192,7 @@ def _groups(m: mujoco.MjModel, d: mujoco.MjData, hinges) -> tuple[dict[str, str]
                     on_chain[m.joint(j).name].append(name)
             b = m.body_parentid[b]
     # A joint on the chains of several limbs (the T1's waist, above both legs) is the waist.
-    group = {joint: limbs[0] if len(limbs) == 1 else "waist"
-             for joint, limbs in on_chain.items()}
+    group = {joint: limbs[0] if len(limbs) == 1 else "waist" for joint, limbs in on_chain.items()}
     feet = sorted(leaves[:2], key=lambda b: -d.xpos[b, 1])  # left (+y) first
     return group, (m.body(feet[0]).name, m.body(feet[1]).name)
 
@@ -178,8 +206,11 @@ def _imu_site(m: mujoco.MjModel, path: Path) -> str:
 
 def collision_geoms(m: mujoco.MjModel, body_id: int) -> list[int]:
     """The geoms of a body that take part in contacts."""
-    return [g for g in range(m.ngeom) if m.geom_bodyid[g] == body_id
-            and (m.geom_contype[g] or m.geom_conaffinity[g])]
+    return [
+        g
+        for g in range(m.ngeom)
+        if m.geom_bodyid[g] == body_id and (m.geom_contype[g] or m.geom_conaffinity[g])
+    ]
 
 
 def geom_box_corners(m: mujoco.MjModel, g: int) -> np.ndarray:
@@ -199,12 +230,15 @@ def sole_box(path: Path, foot_link: str) -> tuple[tuple[float, ...], tuple[float
     corners = np.vstack([geom_box_corners(m, g) for g in collision_geoms(m, m.body(foot_link).id)])
     lo, hi = corners.min(axis=0), corners.max(axis=0)
     centre = (lo + hi) / 2
-    return ((float(centre[0]), float(centre[1]), float(lo[2])),
-            (float(hi[0] - lo[0]) / 2, float(hi[1] - lo[1]) / 2))
+    return (
+        (float(centre[0]), float(centre[1]), float(lo[2])),
+        (float(hi[0] - lo[0]) / 2, float(hi[1] - lo[1]) / 2),
+    )
 
 
-def stand_height_m(path: Path, root: str, feet: tuple[str, str],
-                   joint_angles_rad: dict[str, float]) -> float:
+def stand_height_m(
+    path: Path, root: str, feet: tuple[str, str], joint_angles_rad: dict[str, float]
+) -> float:
     """Height [m] of the root body's origin above the lowest sole point, in a pose (root
     upright)."""
     m = load_model(path)

@@ -73,17 +73,21 @@ def _shapes(m: mujoco.MjModel, g: int) -> list[tuple[np.ndarray, np.ndarray, str
 
 def _link(m: mujoco.MjModel, b: int) -> str:
     ixx, iyy, izz = m.body_inertia[b]
-    lines = [f'  <link name={quoteattr(m.body(b).name)}>',
-             f'    <inertial>{_origin(m.body_ipos[b], m.body_iquat[b])}'
-             f'<mass value="{m.body_mass[b]:.6g}"/>'
-             f'<inertia ixx="{ixx:.6g}" ixy="0" ixz="0" iyy="{iyy:.6g}" iyz="0" '
-             f'izz="{izz:.6g}"/></inertial>']
+    lines = [
+        f"  <link name={quoteattr(m.body(b).name)}>",
+        f"    <inertial>{_origin(m.body_ipos[b], m.body_iquat[b])}"
+        f'<mass value="{m.body_mass[b]:.6g}"/>'
+        f'<inertia ixx="{ixx:.6g}" ixy="0" ixz="0" iyy="{iyy:.6g}" iyz="0" '
+        f'izz="{izz:.6g}"/></inertial>',
+    ]
     for g in collision_geoms(m, b):
         for pos, quat, geometry in _shapes(m, g):
             for tag in ("visual", "collision"):
                 material = '<material name="grey"/>' if tag == "visual" else ""
-                lines.append(f'    <{tag}>{_origin(pos, quat)}<geometry>{geometry}</geometry>'
-                             f'{material}</{tag}>')
+                lines.append(
+                    f"    <{tag}>{_origin(pos, quat)}<geometry>{geometry}</geometry>"
+                    f"{material}</{tag}>"
+                )
     lines.append("  </link>")
     return "\n".join(lines)
 
@@ -92,27 +96,37 @@ def _joint(m: mujoco.MjModel, b: int) -> str:
     parent, child = m.body(m.body_parentid[b]).name, m.body(b).name
     origin = _origin(m.body_pos[b], m.body_quat[b])
     if m.body_jntnum[b] == 0:  # welded to its parent
-        return (f'  <joint name={quoteattr(child + "_fixed")} type="fixed"><parent '
-                f'link={quoteattr(parent)}/><child link={quoteattr(child)}/>{origin}</joint>')
+        return (
+            f'  <joint name={quoteattr(child + "_fixed")} type="fixed"><parent '
+            f"link={quoteattr(parent)}/><child link={quoteattr(child)}/>{origin}</joint>"
+        )
     j = m.body_jntadr[b]
-    if m.body_jntnum[b] > 1 or m.jnt_type[j] != mujoco.mjtJoint.mjJNT_HINGE \
-            or np.any(m.jnt_pos[j] != 0):
+    if (
+        m.body_jntnum[b] > 1
+        or m.jnt_type[j] != mujoco.mjtJoint.mjJNT_HINGE
+        or np.any(m.jnt_pos[j] != 0)
+    ):
         raise MimicError(f"body {child}: only one hinge at the body origin has a URDF twin")
     lower, upper = m.jnt_range[j]
-    return (f'  <joint name={quoteattr(m.joint(j).name)} type="revolute">'
-            f'<parent link={quoteattr(parent)}/><child link={quoteattr(child)}/>{origin}'
-            f'<axis xyz="{_f(m.jnt_axis[j])}"/>'
-            f'<limit lower="{lower:.6f}" upper="{upper:.6f}" '
-            f'effort="{m.jnt_actfrcrange[j, 1]:g}" velocity="{_UNSTATED_SPEED_RAD_S:g}"/>'
-            f'</joint>')
+    return (
+        f'  <joint name={quoteattr(m.joint(j).name)} type="revolute">'
+        f"<parent link={quoteattr(parent)}/><child link={quoteattr(child)}/>{origin}"
+        f'<axis xyz="{_f(m.jnt_axis[j])}"/>'
+        f'<limit lower="{lower:.6f}" upper="{upper:.6f}" '
+        f'effort="{m.jnt_actfrcrange[j, 1]:g}" velocity="{_UNSTATED_SPEED_RAD_S:g}"/>'
+        f"</joint>"
+    )
 
 
 def mjcf_urdf(path: Path, robot_name: str) -> str:
     """URDF text of the robot in the MJCF file ``path`` (root: its free-floating body)."""
     read_mjcf(path)  # checks it is one robot with one root
     m = load_model(path)
-    parts = ['<?xml version="1.0"?>', f'<robot name={quoteattr(robot_name)}>',
-             '  <material name="grey"><color rgba="0.75 0.75 0.8 1"/></material>']
+    parts = [
+        '<?xml version="1.0"?>',
+        f"<robot name={quoteattr(robot_name)}>",
+        '  <material name="grey"><color rgba="0.75 0.75 0.8 1"/></material>',
+    ]
     parts += [_link(m, b) for b in range(1, m.nbody)]
     parts += [_joint(m, b) for b in range(1, m.nbody) if m.body_parentid[b] != 0]
     parts.append("</robot>")

@@ -126,8 +126,10 @@ class RobotDescription:
 
     def __post_init__(self) -> None:
         if len(self.stand_pose_rad) != len(self.joints):
-            raise ValueError(f"{self.name}: stand pose has {len(self.stand_pose_rad)} angles "
-                             f"for {len(self.joints)} joints")
+            raise ValueError(
+                f"{self.name}: stand pose has {len(self.stand_pose_rad)} angles "
+                f"for {len(self.joints)} joints"
+            )
 
     # --- sizes and names ---------------------------------------------------------------
     @property
@@ -223,14 +225,17 @@ class RobotDescription:
         """``values`` as an (N,) float array, or a clear error naming the robot."""
         a = np.asarray(values, dtype=float)
         if a.shape != (self.num_joints,):
-            raise MimicError(f"{what}: {self.name} has {self.num_joints} joints, got shape "
-                             f"{a.shape}")
+            raise MimicError(
+                f"{what}: {self.name} has {self.num_joints} joints, got shape {a.shape}"
+            )
         return a
 
     def describe(self) -> str:
         """One line: joints, mass, actuators."""
-        return (f"{self.title}: {self.num_joints} joints, {self.mass_kg:.2f} kg, "
-                f"{self.actuator.describe()}")
+        return (
+            f"{self.title}: {self.num_joints} joints, {self.mass_kg:.2f} kg, "
+            f"{self.actuator.describe()}"
+        )
 
 
 def _readonly(values, dtype=float) -> np.ndarray:

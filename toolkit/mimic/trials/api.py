@@ -25,8 +25,14 @@ from mimic.trials.report import (
 from mimic.trials.walk import WalkTrialConfig, run_walk_episode
 from mimic.trials.worlds import MUJOCO, check_world, world_kind
 
-__all__ = ["TrialResult", "kick_trial", "walk_trial", "check_trial", "check_variants",
-           "trial_files"]
+__all__ = [
+    "TrialResult",
+    "kick_trial",
+    "walk_trial",
+    "check_trial",
+    "check_variants",
+    "trial_files",
+]
 
 
 @dataclass
@@ -60,17 +66,26 @@ def check_variants(kind: str, specs: list[AgentSpec]) -> None:
         options.finite(spec.speed_rate, "--speed-rate", above=0)
         if spec.kind == "model":
             from mimic.learn.model_file import load_model
+
             load_model(spec.ref)
         elif spec.kind == "motion":
             from mimic.motion.files import load_motion
+
             load_motion(spec.ref)
         if kind == "kick":
             spec.ball_offset_m()
 
 
-def check_trial(kind: str, specs: list[AgentSpec], *, minutes: float | None = None,
-                runs: int | None = None, seed: int = 0, workers: int | None = None,
-                config: KickTrialConfig | WalkTrialConfig | None = None) -> None:
+def check_trial(
+    kind: str,
+    specs: list[AgentSpec],
+    *,
+    minutes: float | None = None,
+    runs: int | None = None,
+    seed: int = 0,
+    workers: int | None = None,
+    config: KickTrialConfig | WalkTrialConfig | None = None,
+) -> None:
     """Everything a trial checks before its first episode: options in range (``--minutes``
     finite and > 0, ``--runs`` and ``--workers`` >= 1, a seed numpy accepts), the world
     (``config.world``: it plays every variant's robot; a kick's way to the ball suits the
@@ -93,63 +108,135 @@ def check_trial(kind: str, specs: list[AgentSpec], *, minutes: float | None = No
     check_variants(kind, specs)
 
 
-def _run(kind: str, episode_fn: Callable, summarise: Callable, specs: list[AgentSpec], config,
-         *, minutes: float | None, runs: int | None, seed: int, workers: int | None,
-         executor: Executor | None, out: Path | None,
-         progress: Callable[[str, EpisodeBatch], None] | None, trace: bool,
-         overwrite: bool) -> TrialResult:
-    check_trial(kind, specs, minutes=minutes, runs=runs, seed=seed, workers=workers,
-                config=config)
+def _run(
+    kind: str,
+    episode_fn: Callable,
+    summarise: Callable,
+    specs: list[AgentSpec],
+    config,
+    *,
+    minutes: float | None,
+    runs: int | None,
+    seed: int,
+    workers: int | None,
+    executor: Executor | None,
+    out: Path | None,
+    progress: Callable[[str, EpisodeBatch], None] | None,
+    trace: bool,
+    overwrite: bool,
+) -> TrialResult:
+    check_trial(kind, specs, minutes=minutes, runs=runs, seed=seed, workers=workers, config=config)
     if out is not None and not overwrite:
         from mimic.files import check_outputs
+
         check_outputs(trial_files(out))
     if executor is None:  # one pool for every variant: workers start once
         with make_executor(workers) as own:
-            return _run_variants(kind, episode_fn, summarise, specs, config, minutes=minutes,
-                                 runs=runs, seed=seed, executor=own, out=out,
-                                 progress=progress, trace=trace, overwrite=overwrite)
-    return _run_variants(kind, episode_fn, summarise, specs, config, minutes=minutes, runs=runs,
-                         seed=seed, executor=executor, out=out, progress=progress, trace=trace,
-                         overwrite=overwrite)
+            return _run_variants(
+                kind,
+                episode_fn,
+                summarise,
+                specs,
+                config,
+                minutes=minutes,
+                runs=runs,
+                seed=seed,
+                executor=own,
+                out=out,
+                progress=progress,
+                trace=trace,
+                overwrite=overwrite,
+            )
+    return _run_variants(
+        kind,
+        episode_fn,
+        summarise,
+        specs,
+        config,
+        minutes=minutes,
+        runs=runs,
+        seed=seed,
+        executor=executor,
+        out=out,
+        progress=progress,
+        trace=trace,
+        overwrite=overwrite,
+    )
 
 
-def _run_variants(kind: str, episode_fn: Callable, summarise: Callable, specs: list[AgentSpec],
-                  config, *, minutes: float | None, runs: int | None, seed: int,
-                  executor: Executor, out: Path | None,
-                  progress: Callable[[str, EpisodeBatch], None] | None, trace: bool,
-                  overwrite: bool) -> TrialResult:
+def _run_variants(
+    kind: str,
+    episode_fn: Callable,
+    summarise: Callable,
+    specs: list[AgentSpec],
+    config,
+    *,
+    minutes: float | None,
+    runs: int | None,
+    seed: int,
+    executor: Executor,
+    out: Path | None,
+    progress: Callable[[str, EpisodeBatch], None] | None,
+    trace: bool,
+    overwrite: bool,
+) -> TrialResult:
     frames, rows, traces = [], [], {}
     expected_s = None  # the previous variant's mean episode: how many to run at once
     for spec in specs:
-        batch = run_episodes(episode_fn, spec, config,
-                             budget_s=None if minutes is None else minutes * 60,
-                             episodes=runs, seed=seed, executor=executor,
-                             progress=(lambda b, s=spec: progress(s.label, b)) if progress
-                             else None,
-                             trace_episodes=1 if trace else 0, expected_episode_s=expected_s)
+        batch = run_episodes(
+            episode_fn,
+            spec,
+            config,
+            budget_s=None if minutes is None else minutes * 60,
+            episodes=runs,
+            seed=seed,
+            executor=executor,
+            progress=(lambda b, s=spec: progress(s.label, b)) if progress else None,
+            trace_episodes=1 if trace else 0,
+            expected_episode_s=expected_s,
+        )
         expected_s = batch.simulated_s / len(batch.episodes) if batch.episodes else None
         if 0 in batch.traces:
             traces[spec.label] = batch.traces[0]
         rows.append(summarise(spec.label, batch))
         if batch.rows:
-            frames.append(pl.DataFrame(batch.rows).with_columns(pl.lit(spec.label).alias("variant")))
+            frames.append(
+                pl.DataFrame(batch.rows).with_columns(pl.lit(spec.label).alias("variant"))
+            )
     summary = with_ratios(pl.DataFrame(rows))
     table = pl.concat(frames, how="diagonal_relaxed") if frames else pl.DataFrame()
     result = TrialResult(kind, table, summary, traces=traces)
     if out is not None:
-        meta = dict(kind=kind, minutes=minutes, runs=runs, seed=seed,
-                    variants=[asdict(s) for s in specs], config=asdict(config))
+        meta = dict(
+            kind=kind,
+            minutes=minutes,
+            runs=runs,
+            seed=seed,
+            variants=[asdict(s) for s in specs],
+            config=asdict(config),
+        )
         write_rows(table, out, meta, summary=summary, overwrite=overwrite)
-        result.files = [out, *write_summary(summary, out.with_name(out.stem + "_summary"),
-                                            overwrite=overwrite)]
+        result.files = [
+            out,
+            *write_summary(summary, out.with_name(out.stem + "_summary"), overwrite=overwrite),
+        ]
     return result
 
 
-def kick_trial(specs: list[AgentSpec], *, minutes: float = 30.0, seed: int = 0,
-               workers: int | None = None, out: Path | None = None,
-               config: KickTrialConfig = KickTrialConfig(), progress=None,
-               trace: bool = False, executor: Executor | None = None,
-               overwrite: bool = True, world: str | None = None) -> TrialResult:
+def kick_trial(
+    specs: list[AgentSpec],
+    *,
+    minutes: float = 30.0,
+    seed: int = 0,
+    workers: int | None = None,
+    out: Path | None = None,
+    config: KickTrialConfig = KickTrialConfig(),
+    progress=None,
+    trace: bool = False,
+    executor: Executor | None = None,
+    overwrite: bool = True,
+    world: str | None = None,
+) -> TrialResult:
     """Kick trial of each variant for ``minutes`` simulated minutes under the same seeds
     (whole episodes that end within the budget).
 
@@ -167,16 +254,39 @@ def kick_trial(specs: list[AgentSpec], *, minutes: float = 30.0, seed: int = 0,
     """
     if world is not None:
         config = replace(config, world=world_kind(world))
-    return _run("kick", run_kick_episode, kick_summary, specs, config, minutes=minutes, runs=None,
-                seed=seed, workers=workers, executor=executor, out=out, progress=progress,
-                trace=trace, overwrite=overwrite)
+    return _run(
+        "kick",
+        run_kick_episode,
+        kick_summary,
+        specs,
+        config,
+        minutes=minutes,
+        runs=None,
+        seed=seed,
+        workers=workers,
+        executor=executor,
+        out=out,
+        progress=progress,
+        trace=trace,
+        overwrite=overwrite,
+    )
 
 
-def walk_trial(specs: list[AgentSpec], *, minutes: float | None = None, runs: int | None = None,
-               seed: int = 0, workers: int | None = None, out: Path | None = None,
-               config: WalkTrialConfig = WalkTrialConfig(), progress=None,
-               trace: bool = False, executor: Executor | None = None,
-               overwrite: bool = True, world: str | None = None) -> TrialResult:
+def walk_trial(
+    specs: list[AgentSpec],
+    *,
+    minutes: float | None = None,
+    runs: int | None = None,
+    seed: int = 0,
+    workers: int | None = None,
+    out: Path | None = None,
+    config: WalkTrialConfig = WalkTrialConfig(),
+    progress=None,
+    trace: bool = False,
+    executor: Executor | None = None,
+    overwrite: bool = True,
+    world: str | None = None,
+) -> TrialResult:
     """Walk trial (from a standing start, straight ahead: our world's own goal line to the
     centre line, 15 m; the league's 10 m course) of each variant, by minutes or run count.
 
@@ -189,6 +299,19 @@ def walk_trial(specs: list[AgentSpec], *, minutes: float | None = None, runs: in
         raise MimicError("give --minutes or --runs, not both")
     if minutes is None and runs is None:
         runs = 10
-    return _run("walk", run_walk_episode, walk_summary, specs, config, minutes=minutes, runs=runs,
-                seed=seed, workers=workers, executor=executor, out=out, progress=progress,
-                trace=trace, overwrite=overwrite)
+    return _run(
+        "walk",
+        run_walk_episode,
+        walk_summary,
+        specs,
+        config,
+        minutes=minutes,
+        runs=runs,
+        seed=seed,
+        workers=workers,
+        executor=executor,
+        out=out,
+        progress=progress,
+        trace=trace,
+        overwrite=overwrite,
+    )

@@ -25,8 +25,16 @@ from typing import Any
 
 from mimic.errors import MimicError
 
-__all__ = ["Executor", "InlineExecutor", "PoolExecutor", "RayExecutor", "make_executor",
-           "available_cores", "resolve_workers", "RAY_LOCAL"]
+__all__ = [
+    "Executor",
+    "InlineExecutor",
+    "PoolExecutor",
+    "RayExecutor",
+    "make_executor",
+    "available_cores",
+    "resolve_workers",
+    "RAY_LOCAL",
+]
 
 #: ``ray=RAY_LOCAL`` starts (or joins) a Ray instance on this machine.
 RAY_LOCAL = "local"
@@ -220,13 +228,16 @@ def _check_reachable(address: str, timeout_s: float = 3.0) -> None:
     target = address.removeprefix("ray://")
     host, sep, port = target.rpartition(":")
     if not sep or not port.isdigit():
-        raise MimicError(f"Ray address {address!r} is not HOST:PORT (or 'auto'; "
-                         "or --ray alone for a local Ray)")
+        raise MimicError(
+            f"Ray address {address!r} is not HOST:PORT (or 'auto'; or --ray alone for a local Ray)"
+        )
     try:
         socket.create_connection((host, int(port)), timeout=timeout_s).close()
     except OSError as err:
-        raise MimicError(f"cannot reach a Ray cluster at {address} ({err.strerror or err}); "
-                         "start one with 'ray start --head' or check the address") from None
+        raise MimicError(
+            f"cannot reach a Ray cluster at {address} ({err.strerror or err}); "
+            "start one with 'ray start --head' or check the address"
+        ) from None
 
 
 class RayExecutor(Executor):
@@ -241,14 +252,13 @@ class RayExecutor(Executor):
         try:
             import ray
         except ModuleNotFoundError:
-            raise MimicError("--ray needs the ray extra: pip install -e \".[ray]\"") from None
+            raise MimicError('--ray needs the ray extra: pip install -e ".[ray]"') from None
         self._ray = ray
         self._owner = not ray.is_initialized()
         if self._owner:
             if address not in (RAY_LOCAL, "auto"):
                 _check_reachable(address)
-            kwargs = dict(include_dashboard=False, log_to_driver=False,
-                          logging_level=logging.ERROR)
+            kwargs = dict(include_dashboard=False, log_to_driver=False, logging_level=logging.ERROR)
             try:
                 if address == RAY_LOCAL:
                     ray.init(num_cpus=workers or available_cores(), **kwargs)

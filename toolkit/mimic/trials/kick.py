@@ -24,8 +24,14 @@ from mimic.episode.scene import BALL_ASIDE_M
 from mimic.trials.worlds import MUJOCO, open_world, world_kind
 from mimic.world.base import World
 
-__all__ = ["KickTrialConfig", "run_kick_episode", "kick_scene", "SUCCESS_DISTANCE_M",
-           "REACH_METHODS", "reach_method"]
+__all__ = [
+    "KickTrialConfig",
+    "run_kick_episode",
+    "kick_scene",
+    "SUCCESS_DISTANCE_M",
+    "REACH_METHODS",
+    "reach_method",
+]
 
 #: A kick counts as successful when the ball travels farther than this (the study's rule) [m].
 SUCCESS_DISTANCE_M = 2.0
@@ -83,14 +89,19 @@ def reach_method(config: KickTrialConfig, robot: str) -> str:
     if config.reach == "auto":
         return "walk" if robot == "nao" and world_kind(config.world) == MUJOCO else "place"
     if config.reach not in REACH_METHODS:
-        raise MimicError(f"unknown way to reach the ball {config.reach!r}; one of: auto, "
-                         f"{', '.join(REACH_METHODS)}")
+        raise MimicError(
+            f"unknown way to reach the ball {config.reach!r}; one of: auto, "
+            f"{', '.join(REACH_METHODS)}"
+        )
     if config.reach == "walk" and robot != "nao":
-        raise MimicError(f"our walk engine drives the NAO only, not the {robot}; reach the ball "
-                         "with 'place'")
+        raise MimicError(
+            f"our walk engine drives the NAO only, not the {robot}; reach the ball with 'place'"
+        )
     if config.reach == "walk" and world_kind(config.world) != MUJOCO:
-        raise MimicError("walking to the ball needs our MuJoCo world (the NAO); in the league "
-                         "the robot is placed behind the ball")
+        raise MimicError(
+            "walking to the ball needs our MuJoCo world (the NAO); in the league "
+            "the robot is placed behind the ball"
+        )
     return config.reach
 
 
@@ -109,11 +120,18 @@ def kick_scene(offset_m, config: KickTrialConfig, goal_x_m: float) -> Scene:
     its stand; then the ball at the kick's offset from the settled torso (the feet move a
     little while settling)."""
     start_x = goal_x_m - config.start_goal_distance_m
-    return Scene(robot_xy_m=(start_x - offset_m[0], -offset_m[1]), ball_offset_m=tuple(offset_m),
-                 ball_after_settle=True, settle_s=0.5, settle_into_stand=True,
-                 noise=PoseNoise(position_m=config.start_noise_pos_m,
-                                 yaw_rad=config.start_noise_yaw_rad,
-                                 joint_rad=config.start_noise_joint_rad))
+    return Scene(
+        robot_xy_m=(start_x - offset_m[0], -offset_m[1]),
+        ball_offset_m=tuple(offset_m),
+        ball_after_settle=True,
+        settle_s=0.5,
+        settle_into_stand=True,
+        noise=PoseNoise(
+            position_m=config.start_noise_pos_m,
+            yaw_rad=config.start_noise_yaw_rad,
+            joint_rad=config.start_noise_joint_rad,
+        ),
+    )
 
 
 def _ball_in_robot_frame(world: World) -> np.ndarray:
@@ -123,12 +141,14 @@ def _ball_in_robot_frame(world: World) -> np.ndarray:
     return np.array([c * d[0] + s * d[1], -s * d[0] + c * d[1]])
 
 
-def _walk_to_ball(episode: Episode, offset_m, config: KickTrialConfig, limit_s: float,
-                  goal_x_m: float) -> str:
+def _walk_to_ball(
+    episode: Episode, offset_m, config: KickTrialConfig, limit_s: float, goal_x_m: float
+) -> str:
     """Walk behind the ball facing the goal until lined up: ``arrived``, ``fell``, ``timeout``
     (the walk took too long) or ``not lined up`` (every attempt ended off the ball)."""
     from mimic.agents.walk import make_walk_agent
     from mimic.agents.walk.goto import GoToPose, pose_behind_ball
+
     world = episode.world
     deadline_s = world.time_s + min(config.walk_timeout_s, limit_s - world.time_s)
     for _ in range(config.lineup_attempts):
@@ -136,21 +156,25 @@ def _walk_to_ball(episode: Episode, offset_m, config: KickTrialConfig, limit_s: 
         ball = world.ball_pos_m()[:2]
         aim = (offset_m[0] + config.approach_back_off_m, offset_m[1])
         goto.set_target(*pose_behind_ball(ball, np.array([goal_x_m, 0.0]), aim))
-        outcome = episode.run(goto, max_s=deadline_s - world.time_s,
-                              stop=lambda w, goto=goto: goto.arrived)
+        outcome = episode.run(
+            goto, max_s=deadline_s - world.time_s, stop=lambda w, goto=goto: goto.arrived
+        )
         if outcome not in ("stop", "done"):
             return outcome  # fell or timeout
         if episode.stand_still(max_s=0.4) == "fell":
             return "fell"
         error = _ball_in_robot_frame(world) - np.asarray(offset_m)
-        if (abs(error[0]) <= config.lineup_tolerance_x_m
-                and abs(error[1]) <= config.lineup_tolerance_y_m) or world.goal_scored():
+        if (
+            abs(error[0]) <= config.lineup_tolerance_x_m
+            and abs(error[1]) <= config.lineup_tolerance_y_m
+        ) or world.goal_scored():
             return "arrived"
     return "not lined up"
 
 
-def _place_behind_ball(episode: Episode, offset_m, config: KickTrialConfig,
-                       rng: np.random.Generator, goal_x_m: float) -> str:
+def _place_behind_ball(
+    episode: Episode, offset_m, config: KickTrialConfig, rng: np.random.Generator, goal_x_m: float
+) -> str:
     """Put the robot behind the ball facing the goal, with the start's noise drawn from
     ``rng`` (x, y, heading, joints), and let it settle into its stand: ``arrived`` or
     ``fell``."""
@@ -162,8 +186,9 @@ def _place_behind_ball(episode: Episode, offset_m, config: KickTrialConfig,
     x, y, yaw = pose_behind_ball(ball, np.array([goal_x_m, 0.0]), offset_m)
     noise = rng.normal(0.0, config.start_noise_pos_m, 2)
     yaw += float(rng.normal(0.0, config.start_noise_yaw_rad))
-    pose = robot.clip(robot.stand_pose()
-                      + rng.normal(0.0, config.start_noise_joint_rad, robot.num_joints))
+    pose = robot.clip(
+        robot.stand_pose() + rng.normal(0.0, config.start_noise_joint_rad, robot.num_joints)
+    )
     # The ball waits aside (toward the field's long axis, so inside the lines) while the robot
     # appears and settles: the league's server puts a robot down with straight joints, and its
     # feet swing through the ball's spot on the way into the stand. Then the ball goes back
@@ -171,8 +196,9 @@ def _place_behind_ball(episode: Episode, offset_m, config: KickTrialConfig,
     world.place_ball(ball[0], ball[1] - math.copysign(BALL_ASIDE_M, ball[1]))
     world.place_robot(x + noise[0], y + noise[1], yaw, pose)
     episode.falls.update(world)  # a robot lying before is standing now
-    outcome = episode.run(HoldPose(robot.stand_pose(), robot.name), max_s=_SETTLE_S,
-                          stop_when_done=False)
+    outcome = episode.run(
+        HoldPose(robot.stand_pose(), robot.name), max_s=_SETTLE_S, stop_when_done=False
+    )
     world.place_ball(*ball)
     return "fell" if outcome == "fell" else "arrived"
 
@@ -210,16 +236,18 @@ def _referee(world: World) -> str | None:
     return "goal" if mode.startswith("Goal_") else "out"
 
 
-def run_kick_episode(kick: AgentSpec, seed: int, config: KickTrialConfig = KickTrialConfig()
-                     ) -> tuple[list[dict], dict]:
+def run_kick_episode(
+    kick: AgentSpec, seed: int, config: KickTrialConfig = KickTrialConfig()
+) -> tuple[list[dict], dict]:
     """Play one episode in ``config.world``; returns (one row per kick, the episode's summary
     row)."""
     with open_world(config.world, kick.robot, server_command=config.server_command) as world:
         return _play_kick_episode(world, kick, seed, config)
 
 
-def _play_kick_episode(world: World, kick: AgentSpec, seed: int, config: KickTrialConfig
-                       ) -> tuple[list[dict], dict]:
+def _play_kick_episode(
+    world: World, kick: AgentSpec, seed: int, config: KickTrialConfig
+) -> tuple[list[dict], dict]:
     rng = np.random.default_rng(seed)
     reach = reach_method(config, kick.robot)
     goal_x = world.field.opponent_goal_x_m
@@ -246,26 +274,36 @@ def _play_kick_episode(world: World, kick: AgentSpec, seed: int, config: KickTri
         else:  # the ball still rolls while the robot lies (placed anew next: a falling
             # robot may still push the ball, so wait until it has lain a second)
             fell_t = world.time_s
-            watch = _BallWatch(config, (lambda w: w.time_s - fell_t > 1.0)  # noqa: B023
-                               if reach == "place" else (lambda w: True))
+            watch = _BallWatch(
+                config,
+                (lambda w: w.time_s - fell_t > 1.0)  # noqa: B023
+                if reach == "place"
+                else (lambda w: True),
+            )
             episode.wait_limp(max_s=min(config.ball_wait_s, left_s()), stop=watch)
         called = _referee(world)
         end_xy = world.ball_pos_m()[:2]
         if called == "out" and watch.in_play_xy is not None:
             end_xy = watch.in_play_xy
         distance = float(np.linalg.norm(end_xy - start_xy))
-        rows.append(dict(
-            kick=len(rows), time_s=start_t, distance_m=distance,
-            success=distance > SUCCESS_DISTANCE_M,
-            direction_error_deg=math.degrees(_direction_error_rad(start_xy, end_xy, goal_x)),
-            goal=bool(world.goal_scored()) or called == "goal",
-            ball_out=bool(world.ball_out()) or called == "out",
-            fell=falls.falls > falls_before,
-            ball_start_x_m=float(start_xy[0]), ball_start_y_m=float(start_xy[1]),
-            ball_end_x_m=float(end_xy[0]), ball_end_y_m=float(end_xy[1]),
-            lineup_error_x_m=float(lineup[0] - offset[0]),
-            lineup_error_y_m=float(lineup[1] - offset[1]),
-        ))
+        rows.append(
+            dict(
+                kick=len(rows),
+                time_s=start_t,
+                distance_m=distance,
+                success=distance > SUCCESS_DISTANCE_M,
+                direction_error_deg=math.degrees(_direction_error_rad(start_xy, end_xy, goal_x)),
+                goal=bool(world.goal_scored()) or called == "goal",
+                ball_out=bool(world.ball_out()) or called == "out",
+                fell=falls.falls > falls_before,
+                ball_start_x_m=float(start_xy[0]),
+                ball_start_y_m=float(start_xy[1]),
+                ball_end_x_m=float(end_xy[0]),
+                ball_end_y_m=float(end_xy[1]),
+                lineup_error_x_m=float(lineup[0] - offset[0]),
+                lineup_error_y_m=float(lineup[1] - offset[1]),
+            )
+        )
         if rows[-1]["goal"]:
             end = "goal"
             break
@@ -292,11 +330,19 @@ def _play_kick_episode(world: World, kick: AgentSpec, seed: int, config: KickTri
         if walk != "arrived":
             end = "could not get up" if walk == "fell" else f"stuck: {walk}"
             break
-    summary = dict(seed=seed, duration_s=world.time_s, kicks=len(rows),
-                   goals=int(any(r["goal"] for r in rows)),
-                   goals_while_walking=int(end == "goal while walking"), falls=falls.falls,
-                   getups=falls.getups, end=end, stuck=end.startswith("stuck"),
-                   world=world_kind(config.world), reach=reach)
+    summary = dict(
+        seed=seed,
+        duration_s=world.time_s,
+        kicks=len(rows),
+        goals=int(any(r["goal"] for r in rows)),
+        goals_while_walking=int(end == "goal while walking"),
+        falls=falls.falls,
+        getups=falls.getups,
+        end=end,
+        stuck=end.startswith("stuck"),
+        world=world_kind(config.world),
+        reach=reach,
+    )
     if trace is not None:
         summary["trace"] = trace.trace()
     return rows, summary

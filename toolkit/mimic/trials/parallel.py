@@ -62,12 +62,21 @@ def run_job(job: tuple) -> tuple[list[dict], dict]:
     return rows, summary
 
 
-def run_episodes(func: Callable, spec, config, *, budget_s: float | None = None,
-                 episodes: int | None = None, seed: int = 0, workers: int | None = None,
-                 executor: Executor | None = None,
-                 progress: Callable[[EpisodeBatch], None] | None = None,
-                 trace_episodes: int = 0, first_episode: int = 0,
-                 expected_episode_s: float | None = None) -> EpisodeBatch:
+def run_episodes(
+    func: Callable,
+    spec,
+    config,
+    *,
+    budget_s: float | None = None,
+    episodes: int | None = None,
+    seed: int = 0,
+    workers: int | None = None,
+    executor: Executor | None = None,
+    progress: Callable[[EpisodeBatch], None] | None = None,
+    trace_episodes: int = 0,
+    first_episode: int = 0,
+    expected_episode_s: float | None = None,
+) -> EpisodeBatch:
     """Run ``func(spec, seed, config) -> (rows, summary)`` episodes until the next one would
     end past ``budget_s`` of simulated time (summary['duration_s']), or exactly ``episodes``.
 
@@ -86,10 +95,19 @@ def run_episodes(func: Callable, spec, config, *, budget_s: float | None = None,
         raise ValueError("give exactly one of budget_s and episodes")
     if executor is None:
         with make_executor(workers) as own:
-            return run_episodes(func, spec, config, budget_s=budget_s, episodes=episodes,
-                                seed=seed, executor=own, progress=progress,
-                                trace_episodes=trace_episodes, first_episode=first_episode,
-                                expected_episode_s=expected_episode_s)
+            return run_episodes(
+                func,
+                spec,
+                config,
+                budget_s=budget_s,
+                episodes=episodes,
+                seed=seed,
+                executor=own,
+                progress=progress,
+                trace_episodes=trace_episodes,
+                first_episode=first_episode,
+                expected_episode_s=expected_episode_s,
+            )
     batch = EpisodeBatch([], [])
 
     def jobs():
@@ -106,8 +124,7 @@ def run_episodes(func: Callable, spec, config, *, budget_s: float | None = None,
     def wanted() -> int:  # episodes worth having in flight
         if budget_s is None:
             return executor.workers
-        mean_s = (batch.simulated_s / len(batch.episodes) if batch.episodes
-                  else expected_episode_s)
+        mean_s = batch.simulated_s / len(batch.episodes) if batch.episodes else expected_episode_s
         if not mean_s:
             return 1
         left = math.ceil(max(0.0, budget_s - batch.simulated_s) / mean_s)
@@ -123,8 +140,11 @@ def run_episodes(func: Callable, spec, config, *, budget_s: float | None = None,
     top_up()
     while pending:
         rows, summary = executor.result(pending.popleft())
-        if (budget_s is not None and batch.episodes
-                and batch.simulated_s + summary["duration_s"] > budget_s):
+        if (
+            budget_s is not None
+            and batch.episodes
+            and batch.simulated_s + summary["duration_s"] > budget_s
+        ):
             break  # would end past the budget: it and every later episode do not count
         batch.add(rows, summary)
         if progress:

@@ -19,29 +19,56 @@ from mimic.trials.kick import SUCCESS_DISTANCE_M
 from mimic.trials.parallel import EpisodeBatch
 from mimic.trials.stats import mean_interval, wilson_interval
 
-__all__ = ["kick_summary", "walk_summary", "with_ratios", "STUDY_KICK", "STUDY_WALK",
-           "write_rows", "write_summary", "summary_files", "progress_status", "CI_SUFFIXES",
-           "STUCK_RULE", "SUCCESS_RULE"]
+__all__ = [
+    "kick_summary",
+    "walk_summary",
+    "with_ratios",
+    "STUDY_KICK",
+    "STUDY_WALK",
+    "write_rows",
+    "write_summary",
+    "summary_files",
+    "progress_status",
+    "CI_SUFFIXES",
+    "STUCK_RULE",
+    "SUCCESS_RULE",
+]
 
 #: Suffixes of the two columns holding a value's 95 % confidence interval.
 CI_SUFFIXES = ("_ci_low", "_ci_high")
 
 #: The study's kick table (30 simulated minutes in the RoboCup 3D simulator).
-STUDY_KICK = pl.DataFrame({
-    "variant": ["study: original keyframe", "study: learned"],
-    "attempts": [726, 844], "successful": [468, 444], "accuracy_pct": [64.5, 52.6],
-    "mean_distance_m": [8.92, 7.16], "std_distance_m": [3.82, 4.06], "goals": [178, 120],
-    "falls": [None, None],
-}, schema_overrides={"falls": pl.Int64})
+STUDY_KICK = pl.DataFrame(
+    {
+        "variant": ["study: original keyframe", "study: learned"],
+        "attempts": [726, 844],
+        "successful": [468, 444],
+        "accuracy_pct": [64.5, 52.6],
+        "mean_distance_m": [8.92, 7.16],
+        "std_distance_m": [3.82, 4.06],
+        "goals": [178, 120],
+        "falls": [None, None],
+    },
+    schema_overrides={"falls": pl.Int64},
+)
 #: The study's forward walk table.
-STUDY_WALK = pl.DataFrame({
-    "variant": ["study: original (UT Austin walk)", "study: learned"],
-    "runs": [None, None],
-    "mean_speed_m_s": [0.87, 0.23], "std_speed_m_s": [0.01, 0.01],
-    "mean_y_error_m": [None, 0.96], "std_y_error_m": [None, 2.63],
-    "falls": [None, None],
-}, schema_overrides={"runs": pl.Int64, "mean_y_error_m": pl.Float64,
-                     "std_y_error_m": pl.Float64, "falls": pl.Int64})
+STUDY_WALK = pl.DataFrame(
+    {
+        "variant": ["study: original (UT Austin walk)", "study: learned"],
+        "runs": [None, None],
+        "mean_speed_m_s": [0.87, 0.23],
+        "std_speed_m_s": [0.01, 0.01],
+        "mean_y_error_m": [None, 0.96],
+        "std_y_error_m": [None, 2.63],
+        "falls": [None, None],
+    },
+    schema_overrides={
+        "runs": pl.Int64,
+        "mean_y_error_m": pl.Float64,
+        "std_y_error_m": pl.Float64,
+        "falls": pl.Int64,
+    },
+)
 
 
 def _ci(name: str, interval: tuple[float, float], scale: float = 1.0) -> dict:
@@ -50,14 +77,25 @@ def _ci(name: str, interval: tuple[float, float], scale: float = 1.0) -> dict:
 
 def kick_summary(label: str, batch: EpisodeBatch) -> dict:
     """One row of the kick table."""
-    kicks = pl.DataFrame(batch.rows) if batch.rows else pl.DataFrame(
-        {"distance_m": [], "success": [], "direction_error_deg": []},
-        schema={"distance_m": pl.Float64, "success": pl.Boolean, "direction_error_deg": pl.Float64})
+    kicks = (
+        pl.DataFrame(batch.rows)
+        if batch.rows
+        else pl.DataFrame(
+            {"distance_m": [], "success": [], "direction_error_deg": []},
+            schema={
+                "distance_m": pl.Float64,
+                "success": pl.Boolean,
+                "direction_error_deg": pl.Float64,
+            },
+        )
+    )
     eps = pl.DataFrame(batch.episodes)
     n = kicks.height
     ok = int(kicks["success"].sum()) if n else 0
     return dict(
-        variant=label, attempts=n, successful=ok,
+        variant=label,
+        attempts=n,
+        successful=ok,
         accuracy_pct=100.0 * kicks["success"].mean() if n else 0.0,
         **_ci("accuracy_pct", wilson_interval(ok, n), 100.0),
         mean_distance_m=kicks["distance_m"].mean() if n else 0.0,
@@ -67,9 +105,12 @@ def kick_summary(label: str, batch: EpisodeBatch) -> dict:
         goals=int(eps["goals"].sum()),
         goals_while_walking=int(eps["goals_while_walking"].sum()) if n else 0,
         falls=int(eps["falls"].sum()),
-        getups=int(eps["getups"].sum()), stuck=int(eps["stuck"].sum()),
-        episodes=eps.height, simulated_min=batch.simulated_s / 60,
-        world=_first(eps, "world"), reach=_first(eps, "reach"),
+        getups=int(eps["getups"].sum()),
+        stuck=int(eps["stuck"].sum()),
+        episodes=eps.height,
+        simulated_min=batch.simulated_s / 60,
+        world=_first(eps, "world"),
+        reach=_first(eps, "reach"),
     )
 
 
@@ -84,7 +125,9 @@ def walk_summary(label: str, batch: EpisodeBatch) -> dict:
     finished = runs.filter(pl.col("finished"))
     fell = int(runs["fell"].sum())
     return dict(
-        variant=label, runs=runs.height, finished=finished.height,
+        variant=label,
+        runs=runs.height,
+        finished=finished.height,
         mean_speed_m_s=runs["speed_m_s"].mean(),
         **_ci("mean_speed_m_s", mean_interval(runs["speed_m_s"].to_numpy())),
         std_speed_m_s=runs["speed_m_s"].std() if runs.height > 1 else 0.0,
@@ -94,12 +137,21 @@ def walk_summary(label: str, batch: EpisodeBatch) -> dict:
         falls=int(runs["falls"].sum()),
         fall_rate_pct=100.0 * fell / runs.height,
         **_ci("fall_rate_pct", wilson_interval(fell, runs.height), 100.0),
-        simulated_min=batch.simulated_s / 60, world=_first(runs, "world"),
+        simulated_min=batch.simulated_s / 60,
+        world=_first(runs, "world"),
     )
 
 
-_RATIO_COLUMNS = {"accuracy_pct", "mean_distance_m", "std_distance_m", "goals",
-                  "mean_speed_m_s", "std_speed_m_s", "mean_y_error_m", "std_y_error_m"}
+_RATIO_COLUMNS = {
+    "accuracy_pct",
+    "mean_distance_m",
+    "std_distance_m",
+    "goals",
+    "mean_speed_m_s",
+    "std_speed_m_s",
+    "mean_y_error_m",
+    "std_y_error_m",
+}
 
 
 def with_ratios(summary: pl.DataFrame) -> pl.DataFrame:
@@ -117,15 +169,26 @@ def _plain(value):
     return None if isinstance(value, float) and not math.isfinite(value) else value
 
 
-def write_rows(rows: pl.DataFrame, path: Path, config: dict, *,
-               summary: pl.DataFrame | None = None, overwrite: bool = True) -> None:
+def write_rows(
+    rows: pl.DataFrame,
+    path: Path,
+    config: dict,
+    *,
+    summary: pl.DataFrame | None = None,
+    overwrite: bool = True,
+) -> None:
     """Parquet with the configuration, toolkit version and (when given) the summary table
     with its confidence intervals in the file's metadata (key ``mimic``, JSON)."""
     table = rows.to_arrow()
     meta = dict(table.schema.metadata or {})
-    extra = {} if summary is None else {
-        "summary": [{k: _plain(v) for k, v in r.items()} for r in summary.to_dicts()],
-        "confidence": "95 %: Wilson score interval for rates, Student t for means"}
+    extra = (
+        {}
+        if summary is None
+        else {
+            "summary": [{k: _plain(v) for k, v in r.items()} for r in summary.to_dicts()],
+            "confidence": "95 %: Wilson score interval for rates, Student t for means",
+        }
+    )
     meta[b"mimic"] = json.dumps({"toolkit_version": __version__, **config, **extra}).encode()
     with atomic_output(path, overwrite=overwrite) as tmp:
         pq.write_table(table.replace_schema_metadata(meta), tmp)
@@ -137,8 +200,7 @@ def summary_files(path: Path) -> list[Path]:
     return [stem.with_suffix(".csv"), stem.with_suffix(".md")]
 
 
-def write_summary(summary: pl.DataFrame, path_stem: Path, *,
-                  overwrite: bool = True) -> list[Path]:
+def write_summary(summary: pl.DataFrame, path_stem: Path, *, overwrite: bool = True) -> list[Path]:
     """The summary table as CSV and Markdown beside the parquet file."""
     csv, md = path_stem.with_suffix(".csv"), path_stem.with_suffix(".md")
     with atomic_output(csv, overwrite=overwrite) as tmp:
@@ -153,16 +215,18 @@ def to_markdown(table: pl.DataFrame) -> str:
         if isinstance(v, float):
             return f"{v:.3g}" if abs(v) < 100 else f"{v:.0f}"
         return "" if v is None else str(v)
-    lines = ["| " + " | ".join(table.columns) + " |",
-             "|" + "---|" * len(table.columns)]
+
+    lines = ["| " + " | ".join(table.columns) + " |", "|" + "---|" * len(table.columns)]
     lines += ["| " + " | ".join(fmt(v) for v in row) + " |" for row in table.iter_rows()]
     return "\n".join(lines) + "\n"
 
 
 SUCCESS_RULE = f"success: ball travels more than {SUCCESS_DISTANCE_M} m"
 #: What the kick table's ``stuck`` column counts.
-STUCK_RULE = ("stuck: episodes that ended because the robot could not reach the ball in time "
-              "or could not line up with it")
+STUCK_RULE = (
+    "stuck: episodes that ended because the robot could not reach the ball in time "
+    "or could not line up with it"
+)
 
 
 def progress_status(batch: EpisodeBatch, minutes: float | None, runs: int | None) -> str:
@@ -175,4 +239,4 @@ def progress_status(batch: EpisodeBatch, minutes: float | None, runs: int | None
     if eps and "kicks" in eps[0]:
         goals = sum(e.get("goals", 0) for e in eps)
         return f"{done} {len(batch.rows)} kicks {goals} goals {fall_text}"
-    return (f"{done} {len(eps)} runs {fall_text}" if minutes else f"{done} {fall_text}")
+    return f"{done} {len(eps)} runs {fall_text}" if minutes else f"{done} {fall_text}"

@@ -39,16 +39,29 @@ def _measure(name, executor, workers, episodes, spec, config, reference, started
     run_episodes(run_walk_episode, spec, config, episodes=workers, seed=1, executor=executor)
     startup_s = time.perf_counter() - started
     start = time.perf_counter()
-    batch = run_episodes(run_walk_episode, spec, config, episodes=episodes, seed=0,
-                         executor=executor)
+    batch = run_episodes(
+        run_walk_episode, spec, config, episodes=episodes, seed=0, executor=executor
+    )
     wall_s = time.perf_counter() - start
     rows = batch.rows
-    return ScalingRow(name, workers, episodes, startup_s, wall_s, episodes / wall_s,
-                      reference is None or rows == reference), rows
+    return ScalingRow(
+        name,
+        workers,
+        episodes,
+        startup_s,
+        wall_s,
+        episodes / wall_s,
+        reference is None or rows == reference,
+    ), rows
 
 
-def bench_scaling(episodes: int = 8, *, ray: bool = True, workers: tuple[int, ...] = (1, 2),
-                  timeout_s: float = 8.0) -> list[ScalingRow]:
+def bench_scaling(
+    episodes: int = 8,
+    *,
+    ray: bool = True,
+    workers: tuple[int, ...] = (1, 2),
+    timeout_s: float = 8.0,
+) -> list[ScalingRow]:
     """Measure ``episodes`` walk-trial episodes (our walk, cut at ``timeout_s`` of simulated
     walking) per executor and worker count. Ray (``ray=True``) starts once, locally, with
     as many CPUs as the most workers asked, and is shut down at the end.
@@ -57,14 +70,16 @@ def bench_scaling(episodes: int = 8, *, ray: bool = True, workers: tuple[int, ..
         MimicError: Ray asked for but not installed.
     """
     from mimic.agents.registry import AgentSpec
+
     spec = AgentSpec("behaviour", "walk")
     config = WalkTrialConfig(timeout_s=timeout_s)
     rows, reference = [], None
     for k in workers:
         started = time.perf_counter()
-        with (InlineExecutor() if k == 1 else PoolExecutor(k)) as ex:
-            row, got = _measure("pool" if k > 1 else "in process", ex, k, episodes, spec,
-                                config, reference, started)
+        with InlineExecutor() if k == 1 else PoolExecutor(k) as ex:
+            row, got = _measure(
+                "pool" if k > 1 else "in process", ex, k, episodes, spec, config, reference, started
+            )
         reference = got if reference is None else reference
         rows.append(row)
     if ray:
@@ -85,12 +100,17 @@ def bench_scaling(episodes: int = 8, *, ray: bool = True, workers: tuple[int, ..
 def format_scaling(rows: list[ScalingRow]) -> str:
     """The measurements as a Markdown table, with speed-ups against one worker."""
     base = {r.executor: r.episodes_per_s for r in rows if r.workers == 1}
-    lines = ["| executor | workers | episodes | start-up s | wall s | episodes/s | speed-up | "
-             "same rows |", "|---|---|---|---|---|---|---|---|"]
+    lines = [
+        "| executor | workers | episodes | start-up s | wall s | episodes/s | speed-up | "
+        "same rows |",
+        "|---|---|---|---|---|---|---|---|",
+    ]
     one = rows[0].episodes_per_s
     for r in rows:
-        lines.append(f"| {r.executor} | {r.workers} | {r.episodes} | {r.startup_s:.1f} | "
-                     f"{r.wall_s:.1f} | {r.episodes_per_s:.2f} | "
-                     f"{r.episodes_per_s / base.get(r.executor, one):.2f}x | "
-                     f"{'yes' if r.same_rows else 'NO'} |")
+        lines.append(
+            f"| {r.executor} | {r.workers} | {r.episodes} | {r.startup_s:.1f} | "
+            f"{r.wall_s:.1f} | {r.episodes_per_s:.2f} | "
+            f"{r.episodes_per_s / base.get(r.executor, one):.2f}x | "
+            f"{'yes' if r.same_rows else 'NO'} |"
+        )
     return "\n".join(lines) + "\n"

@@ -47,28 +47,38 @@ class WalkTrialConfig:
     def course_m(self) -> tuple[float, float]:
         """(start x, finish x) [m] in this trial's world."""
         own = LEAGUE_COURSE_M if world_kind(self.world) == LEAGUE else (F.OWN_GOAL_X_M, 0.0)
-        return (own[0] if self.start_x_m is None else self.start_x_m,
-                own[1] if self.finish_x_m is None else self.finish_x_m)
+        return (
+            own[0] if self.start_x_m is None else self.start_x_m,
+            own[1] if self.finish_x_m is None else self.finish_x_m,
+        )
 
 
 def walk_scene(config: WalkTrialConfig) -> Scene:
     """Standing on the start line facing the opponent goal, the ball out of the way."""
-    return Scene(robot_xy_m=(config.course_m()[0], 0.0), settle_s=0.5, settle_into_stand=True,
-                 noise=PoseNoise(position_m=config.start_noise_pos_m,
-                                 yaw_rad=config.start_noise_yaw_rad,
-                                 joint_rad=config.start_noise_joint_rad))
+    return Scene(
+        robot_xy_m=(config.course_m()[0], 0.0),
+        settle_s=0.5,
+        settle_into_stand=True,
+        noise=PoseNoise(
+            position_m=config.start_noise_pos_m,
+            yaw_rad=config.start_noise_yaw_rad,
+            joint_rad=config.start_noise_joint_rad,
+        ),
+    )
 
 
-def run_walk_episode(walk: AgentSpec, seed: int, config: WalkTrialConfig = WalkTrialConfig()
-                     ) -> tuple[list[dict], dict]:
+def run_walk_episode(
+    walk: AgentSpec, seed: int, config: WalkTrialConfig = WalkTrialConfig()
+) -> tuple[list[dict], dict]:
     """One run in ``config.world``; returns ([the run's row], the same row as summary) for
     the shared runner."""
     with open_world(config.world, walk.robot, server_command=config.server_command) as world:
         return _play_walk_episode(world, walk, seed, config)
 
 
-def _play_walk_episode(world, walk: AgentSpec, seed: int, config: WalkTrialConfig
-                       ) -> tuple[list[dict], dict]:
+def _play_walk_episode(
+    world, walk: AgentSpec, seed: int, config: WalkTrialConfig
+) -> tuple[list[dict], dict]:
     rng = np.random.default_rng(seed)
     finish_x = config.course_m()[1]
     trace = PoseTrace() if config.trace else None
@@ -77,18 +87,28 @@ def _play_walk_episode(world, walk: AgentSpec, seed: int, config: WalkTrialConfi
     falls = episode.falls
     start = world.torso_pos_m()
     t0 = world.time_s
-    outcome = episode.run(walk.build(), max_s=config.timeout_s,
-                          stop=lambda w: w.torso_pos_m()[0] >= finish_x)
+    outcome = episode.run(
+        walk.build(), max_s=config.timeout_s, stop=lambda w: w.torso_pos_m()[0] >= finish_x
+    )
     end = world.torso_pos_m()
     elapsed = world.time_s - t0
     distance = float(end[0] - start[0])
-    row = dict(seed=seed, duration_s=world.time_s, walk_time_s=elapsed,
-               distance_m=distance, speed_m_s=distance / elapsed if elapsed > 0 else 0.0,
-               y_error_m=float(abs(end[1] - start[1])), y_end_m=float(end[1]),
-               heading_error_deg=math.degrees(abs(world.torso_yaw_rad())),
-               finished=outcome == "stop", fell=outcome == "fell", falls=falls.falls,
-               world=world_kind(config.world),
-               end={"stop": "finished", "fell": "fell", "timeout": "timeout",
-                    "done": "agent stopped"}[outcome])
+    row = dict(
+        seed=seed,
+        duration_s=world.time_s,
+        walk_time_s=elapsed,
+        distance_m=distance,
+        speed_m_s=distance / elapsed if elapsed > 0 else 0.0,
+        y_error_m=float(abs(end[1] - start[1])),
+        y_end_m=float(end[1]),
+        heading_error_deg=math.degrees(abs(world.torso_yaw_rad())),
+        finished=outcome == "stop",
+        fell=outcome == "fell",
+        falls=falls.falls,
+        world=world_kind(config.world),
+        end={"stop": "finished", "fell": "fell", "timeout": "timeout", "done": "agent stopped"}[
+            outcome
+        ],
+    )
     summary = dict(row, trace=trace.trace()) if trace is not None else row
     return [row], summary

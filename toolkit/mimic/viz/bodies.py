@@ -19,9 +19,14 @@ from mimic.robot.registry import get_robot
 
 __all__ = ["Shape", "LinkBody", "link_bodies"]
 
-_KINDS = {mujoco.mjtGeom.mjGEOM_BOX: "box", mujoco.mjtGeom.mjGEOM_SPHERE: "sphere",
-          mujoco.mjtGeom.mjGEOM_CAPSULE: "capsule", mujoco.mjtGeom.mjGEOM_CYLINDER: "cylinder",
-          mujoco.mjtGeom.mjGEOM_ELLIPSOID: "ellipsoid", mujoco.mjtGeom.mjGEOM_MESH: "mesh"}
+_KINDS = {
+    mujoco.mjtGeom.mjGEOM_BOX: "box",
+    mujoco.mjtGeom.mjGEOM_SPHERE: "sphere",
+    mujoco.mjtGeom.mjGEOM_CAPSULE: "capsule",
+    mujoco.mjtGeom.mjGEOM_CYLINDER: "cylinder",
+    mujoco.mjtGeom.mjGEOM_ELLIPSOID: "ellipsoid",
+    mujoco.mjtGeom.mjGEOM_MESH: "mesh",
+}
 
 
 @dataclass(frozen=True, eq=False)
@@ -71,12 +76,17 @@ def _link_bodies(robot_name: str) -> tuple[LinkBody, ...]:
     out = []
     for link in robot.links:
         body = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_BODY, link.name)
-        geoms = [g for g in range(m.ngeom) if m.geom_bodyid[g] == body
-                 and m.geom_type[g] in _KINDS]
+        geoms = [g for g in range(m.ngeom) if m.geom_bodyid[g] == body and m.geom_type[g] in _KINDS]
         # A link drawn by meshes also carries simplified collision shapes: draw one of the two.
         meshes = [g for g in geoms if m.geom_type[g] == mujoco.mjtGeom.mjGEOM_MESH]
-        out.append(LinkBody(link.name, float(m.body_mass[body]), m.body_ipos[body].copy(),
-                            tuple(_shape(m, g) for g in (meshes or geoms))))
+        out.append(
+            LinkBody(
+                link.name,
+                float(m.body_mass[body]),
+                m.body_ipos[body].copy(),
+                tuple(_shape(m, g) for g in (meshes or geoms)),
+            )
+        )
     return tuple(out)
 
 
@@ -92,6 +102,7 @@ def _shape(m: mujoco.MjModel, g: int) -> Shape:
     rot = np.zeros(9)
     mujoco.mju_quat2Mat(rot, quat)
     # Mesh vertices are in the mesh frame; the geom pose puts that frame in the link frame.
-    vertices = m.mesh_vert[v0:v0 + nv] @ rot.reshape(3, 3).T + pos
-    return Shape(kind, m.geom_size[g].copy(), pos, quat, collides, vertices,
-                 m.mesh_face[f0:f0 + nf].copy())
+    vertices = m.mesh_vert[v0 : v0 + nv] @ rot.reshape(3, 3).T + pos
+    return Shape(
+        kind, m.geom_size[g].copy(), pos, quat, collides, vertices, m.mesh_face[f0 : f0 + nf].copy()
+    )

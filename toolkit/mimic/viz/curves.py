@@ -16,8 +16,7 @@ from mimic.robot.model import RobotDescription
 from mimic.robot.registry import get_robot
 from mimic.viz.paths import GROUPS, JOINTS_ROOT, joint_path, time_column
 
-__all__ = ["log_joint_table", "SERIES_STYLE", "curves_blueprint", "joint_columns",
-           "joint_error"]
+__all__ = ["log_joint_table", "SERIES_STYLE", "curves_blueprint", "joint_columns", "joint_error"]
 
 #: Colour and width of each series kind, so "reached" and "reference" read the same everywhere.
 SERIES_STYLE = {
@@ -34,24 +33,33 @@ def joint_columns(table: pl.DataFrame) -> list[str]:
     return [c for c in table.columns if c not in (TIME_COLUMN, ENDED_COLUMN)]
 
 
-def log_joint_table(rec: rr.RecordingStream, table: pl.DataFrame, series: str,
-                    robot: str | RobotDescription) -> None:
+def log_joint_table(
+    rec: rr.RecordingStream, table: pl.DataFrame, series: str, robot: str | RobotDescription
+) -> None:
     """Every joint of ``table`` (``time_s`` + joint columns of ``robot``) as one series [rad]."""
     robot = get_robot(robot)
     times = table[TIME_COLUMN].to_numpy()
     colour, width = SERIES_STYLE.get(series, ((128, 128, 128), 1.0))
     for name in joint_columns(table):
         path = joint_path(robot, name, series)
-        rec.log(path, rr.SeriesLines(colors=[colour], widths=[width], names=[f"{name} {series}"]),
-                static=True)
-        rec.send_columns(path, indexes=[time_column(times)],
-                         columns=rr.Scalars.columns(scalars=table[name].to_numpy()))
+        rec.log(
+            path,
+            rr.SeriesLines(colors=[colour], widths=[width], names=[f"{name} {series}"]),
+            static=True,
+        )
+        rec.send_columns(
+            path,
+            indexes=[time_column(times)],
+            columns=rr.Scalars.columns(scalars=table[name].to_numpy()),
+        )
 
 
 def curves_blueprint() -> list[rrb.TimeSeriesView]:
     """One time-series view per joint group."""
-    return [rrb.TimeSeriesView(origin=f"{JOINTS_ROOT}/{group}", name=f"{group} [rad]")
-            for group in GROUPS]
+    return [
+        rrb.TimeSeriesView(origin=f"{JOINTS_ROOT}/{group}", name=f"{group} [rad]")
+        for group in GROUPS
+    ]
 
 
 def joint_error(table_a: pl.DataFrame, table_b: pl.DataFrame) -> np.ndarray:

@@ -26,8 +26,9 @@ def centre_of_mass_path(poses: dict, robot: str | RobotDescription) -> np.ndarra
     return weighted / total
 
 
-def footsteps(track, *, max_height_m: float = 0.05, max_speed_m_s: float = 0.05,
-              min_duration_s: float = 0.04) -> np.ndarray:
+def footsteps(
+    track, *, max_height_m: float = 0.05, max_speed_m_s: float = 0.05, min_duration_s: float = 0.04
+) -> np.ndarray:
     """(K, 3) places where a foot stood: its frame low and nearly still for a while.
 
     ``track`` is a world-frame ``TfTrack`` of a foot link (frame at its ankle joint).
@@ -35,7 +36,9 @@ def footsteps(track, *, max_height_m: float = 0.05, max_speed_m_s: float = 0.05,
     """
     t = track.times_ns * 1e-9
     pos = track.pos_m
-    speed = np.r_[0.0, np.linalg.norm(np.diff(pos[:, :2], axis=0), axis=1) / np.maximum(np.diff(t), 1e-9)]
+    speed = np.r_[
+        0.0, np.linalg.norm(np.diff(pos[:, :2], axis=0), axis=1) / np.maximum(np.diff(t), 1e-9)
+    ]
     still = (pos[:, 2] < max_height_m) & (speed < max_speed_m_s)
     steps, start = [], None
     for i, s in enumerate(np.r_[still, False]):

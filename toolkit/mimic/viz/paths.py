@@ -7,8 +7,17 @@ import rerun as rr
 
 from mimic.robot.model import RobotDescription
 
-__all__ = ["TIMELINE", "WORLD", "ROBOT", "BALL", "JOINTS_ROOT", "GROUPS", "joint_group",
-           "joint_path", "time_column"]
+__all__ = [
+    "TIMELINE",
+    "WORLD",
+    "ROBOT",
+    "BALL",
+    "JOINTS_ROOT",
+    "GROUPS",
+    "joint_group",
+    "joint_path",
+    "time_column",
+]
 
 #: The timeline every time series uses: simulated time since the recording started.
 TIMELINE = "sim_time"

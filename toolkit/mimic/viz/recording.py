@@ -38,8 +38,7 @@ __all__ = ["log_recording", "recording_blueprint", "view_recording", "ENDED_PATH
 ENDED_PATH = "motion/ended"
 
 
-def log_recording(rec: rr.RecordingStream, path: str | Path | Recording, *,
-                  model=None) -> dict:
+def log_recording(rec: rr.RecordingStream, path: str | Path | Recording, *, model=None) -> dict:
     """Log a recording (and optionally a model learned from it) onto ``rec``.
 
     With a model, three more series sit beside the recorded ones: ``learned`` (the network's
@@ -68,27 +67,34 @@ def log_recording(rec: rr.RecordingStream, path: str | Path | Recording, *,
         log_joint_table(rec, table, "reference", robot)
         logged["series"].append("reference")
     if table is not None and ENDED in recording.topics:
-        rec.log(ENDED_PATH, rr.SeriesLines(colors=[(200, 40, 40)], names=["ended"]),
-                static=True)
-        rec.send_columns(ENDED_PATH, indexes=[time_column(table["time_s"].to_numpy())],
-                         columns=rr.Scalars.columns(scalars=table[ENDED_COLUMN].to_numpy()))
+        rec.log(ENDED_PATH, rr.SeriesLines(colors=[(200, 40, 40)], names=["ended"]), static=True)
+        rec.send_columns(
+            ENDED_PATH,
+            indexes=[time_column(table["time_s"].to_numpy())],
+            columns=rr.Scalars.columns(scalars=table[ENDED_COLUMN].to_numpy()),
+        )
         logged["ended"] = True
     if model is not None:
         from mimic.learn.model_file import load_model
+
         loaded = load_model(model) if isinstance(model, (str, Path)) else model
         if loaded.robot != robot.name:
-            raise MimicError(f"{model}: a model of the {loaded.robot}; the recording is of "
-                             f"the {robot.name}")
+            raise MimicError(
+                f"{model}: a model of the {loaded.robot}; the recording is of the {robot.name}"
+            )
         observed = read_joint_table(recording, recording.joint_topic())
         times = observed[TIME_COLUMN].to_numpy()
         names = loaded.joint_names
-        log_joint_table(rec, _joint_frame(times, loaded.predict(times), names), "learned",
-                        robot)
+        log_joint_table(rec, _joint_frame(times, loaded.predict(times), names), "learned", robot)
         logged["series"].append("learned")
         if isinstance(robot.actuator, SpeedServos):
             angles = observed.select(joint_columns(observed)).to_numpy()
-            log_joint_table(rec, _joint_frame(times, compensate_references(
-                times, angles, robot), names), "compensated", robot)
+            log_joint_table(
+                rec,
+                _joint_frame(times, compensate_references(times, angles, robot), names),
+                "compensated",
+                robot,
+            )
             logged["series"].append("compensated")
         log_joint_table(rec, _replayed_table(loaded, recording), "replayed", robot)
         logged["series"].append("replayed")
@@ -110,32 +116,44 @@ def log_recording(rec: rr.RecordingStream, path: str | Path | Recording, *,
     return logged
 
 
-def _log_gait(rec: rr.RecordingStream, tracks: dict, first_ns: int,
-              robot: RobotDescription) -> None:
+def _log_gait(
+    rec: rr.RecordingStream, tracks: dict, first_ns: int, robot: RobotDescription
+) -> None:
     torso = tracks.get(robot.root_link)
     if torso is None:
         return
     com = centre_of_mass_path(tracks, robot)
     ground = np.c_[com[:, :2], np.zeros(len(com))]
     rec.log(f"{WORLD}/com_path", rr.LineStrips3D([ground], colors=(240, 60, 60)), static=True)
-    rec.send_columns(f"{WORLD}/com", indexes=[time_column((torso.times_ns - first_ns) * 1e-9)],
-                     columns=rr.Points3D.columns(positions=ground).partition([1] * len(ground)))
-    for side, foot_link, colour in (("left", robot.foot_links[0], (60, 120, 240)),
-                                    ("right", robot.foot_links[1], (240, 180, 40))):
+    rec.send_columns(
+        f"{WORLD}/com",
+        indexes=[time_column((torso.times_ns - first_ns) * 1e-9)],
+        columns=rr.Points3D.columns(positions=ground).partition([1] * len(ground)),
+    )
+    for side, foot_link, colour in (
+        ("left", robot.foot_links[0], (60, 120, 240)),
+        ("right", robot.foot_links[1], (240, 180, 40)),
+    ):
         foot = tracks.get(foot_link)
         if foot is not None:
             steps = footsteps(foot)
-            rec.log(f"{WORLD}/footsteps/{side}",
-                    rr.Boxes3D(centers=steps + [0.025, 0, 0.002],
-                               half_sizes=[[0.08, 0.04, 0.002]] * len(steps), colors=colour),
-                    static=True)
+            rec.log(
+                f"{WORLD}/footsteps/{side}",
+                rr.Boxes3D(
+                    centers=steps + [0.025, 0, 0.002],
+                    half_sizes=[[0.08, 0.04, 0.002]] * len(steps),
+                    colors=colour,
+                ),
+                static=True,
+            )
 
 
 def _joint_frame(times_s: np.ndarray, angles_rad: np.ndarray, names) -> pl.DataFrame:
     """A joint table (time_s + the N joints ``names``) from (T,) times and (T, >= N) angles
     [rad] (a network's extra ended column is left out)."""
-    return pl.DataFrame({TIME_COLUMN: times_s,
-                         **{n: angles_rad[:, i] for i, n in enumerate(names)}})
+    return pl.DataFrame(
+        {TIME_COLUMN: times_s, **{n: angles_rad[:, i] for i, n in enumerate(names)}}
+    )
 
 
 def _replayed_table(model, recording) -> pl.DataFrame:
@@ -145,6 +163,7 @@ def _replayed_table(model, recording) -> pl.DataFrame:
 
     from mimic.agents.neural_player import NeuralPlayer
     from mimic.recording.recorder import RecordConfig, record
+
     with tempfile.TemporaryDirectory() as tmp:
         out = Path(tmp) / "replay.mcap"
         player = NeuralPlayer(model)
@@ -157,17 +176,27 @@ def _replayed_table(model, recording) -> pl.DataFrame:
 def recording_blueprint() -> rrb.Blueprint:
     """3D scene on the left, one curve plot per joint group on the right."""
     curves = curves_blueprint()
-    return rrb.Blueprint(rrb.Horizontal(
-        rrb.Spatial3DView(origin=WORLD, name="robot"),
-        rrb.Vertical(*curves, rrb.TimeSeriesView(origin=ENDED_PATH, name="ended (/ended)"),
-                     row_shares=[3] * len(curves) + [1]),
-        column_shares=[2, 3],
-    ))
+    return rrb.Blueprint(
+        rrb.Horizontal(
+            rrb.Spatial3DView(origin=WORLD, name="robot"),
+            rrb.Vertical(
+                *curves,
+                rrb.TimeSeriesView(origin=ENDED_PATH, name="ended (/ended)"),
+                row_shares=[3] * len(curves) + [1],
+            ),
+            column_shares=[2, 3],
+        )
+    )
 
 
-def view_recording(path: str | Path, *, model: str | Path | None = None,
-                   save: str | Path | None = None, spawn: bool = True,
-                   overwrite: bool = True) -> dict:
+def view_recording(
+    path: str | Path,
+    *,
+    model: str | Path | None = None,
+    save: str | Path | None = None,
+    spawn: bool = True,
+    overwrite: bool = True,
+) -> dict:
     """Open the view in the Rerun viewer, or save it as an .rrd file.
 
     The recording and the model are read before anything is written; the .rrd file is written
@@ -176,6 +205,7 @@ def view_recording(path: str | Path, *, model: str | Path | None = None,
     an existing ``save``.
     """
     from mimic.learn.model_file import load_model
+
     recording = read_recording(path)
     loaded = load_model(model) if model is not None else None
     rec = rr.RecordingStream("mimic", recording_id=str(path))
@@ -185,5 +215,10 @@ def view_recording(path: str | Path, *, model: str | Path | None = None,
         logged = log_recording(rec, recording, model=loaded)
         rec.flush()
         return logged
-    return save_rrd(rec, save, lambda: log_recording(rec, recording, model=loaded),
-                    blueprint=recording_blueprint(), overwrite=overwrite)
+    return save_rrd(
+        rec,
+        save,
+        lambda: log_recording(rec, recording, model=loaded),
+        blueprint=recording_blueprint(),
+        overwrite=overwrite,
+    )

@@ -16,8 +16,14 @@ __all__ = ["save_rrd"]
 T = TypeVar("T")
 
 
-def save_rrd(rec: rr.RecordingStream, path: str | Path, log: Callable[[], T], *,
-             blueprint=None, overwrite: bool = True) -> T:
+def save_rrd(
+    rec: rr.RecordingStream,
+    path: str | Path,
+    log: Callable[[], T],
+    *,
+    blueprint=None,
+    overwrite: bool = True,
+) -> T:
     """Save everything ``log()`` logs to ``rec`` into ``path``; returns what ``log`` returns.
 
     A failure leaves no file and an existing ``path`` untouched; ``overwrite`` False refuses

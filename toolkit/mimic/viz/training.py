@@ -26,9 +26,15 @@ class TrainingCurves:
         overwrite: replace an existing ``save_rrd`` on ``close`` (False: refuse then).
     """
 
-    def __init__(self, *, spawn: bool = False, save_rrd: str | Path | None = None,
-                 flush_every: int = 20, application_id: str = "mimic_train",
-                 overwrite: bool = True) -> None:
+    def __init__(
+        self,
+        *,
+        spawn: bool = False,
+        save_rrd: str | Path | None = None,
+        flush_every: int = 20,
+        application_id: str = "mimic_train",
+        overwrite: bool = True,
+    ) -> None:
         import rerun as rr
 
         from mimic.files import PendingOutput
@@ -65,9 +71,12 @@ class TrainingCurves:
                 continue
             index = [rr.TimeColumn("epoch", sequence=np.asarray(b["epoch"], dtype=np.int64))]
             for series, key in (("loss_mse", "loss"), ("mae_rad", "mae"), ("phase", "phase")):
-                rr.send_columns(f"training/{name}/{series}", indexes=index,
-                                columns=rr.Scalars.columns(scalars=np.asarray(b[key])),
-                                recording=self.rec)
+                rr.send_columns(
+                    f"training/{name}/{series}",
+                    indexes=index,
+                    columns=rr.Scalars.columns(scalars=np.asarray(b[key])),
+                    recording=self.rec,
+                )
             for v in b.values():
                 v.clear()
 

@@ -36,15 +36,22 @@ def _log_kicks(rec: rr.RecordingStream, name: str, kicks: pl.DataFrame) -> None:
     distance = kicks["distance_m"].to_numpy()
     success = kicks["success"].to_numpy().astype(float)
     running = np.cumsum(success) / np.arange(1, len(success) + 1) * 100
-    rec.send_columns(f"trial/distance_m/{name}", indexes=index,
-                     columns=rr.Scalars.columns(scalars=distance))
-    rec.send_columns(f"trial/running_accuracy_pct/{name}", indexes=index,
-                     columns=rr.Scalars.columns(scalars=running))
+    rec.send_columns(
+        f"trial/distance_m/{name}", indexes=index, columns=rr.Scalars.columns(scalars=distance)
+    )
+    rec.send_columns(
+        f"trial/running_accuracy_pct/{name}",
+        indexes=index,
+        columns=rr.Scalars.columns(scalars=running),
+    )
     counts, _ = np.histogram(distance, bins=np.arange(0.0, 21.0, 1.0))
     rec.log(f"histogram/{name}", rr.BarChart(counts), static=True)
     ends = kicks.select("ball_end_x_m", "ball_end_y_m").to_numpy()
-    rec.log(f"world/ball_ends/{name}", rr.Points3D(np.c_[ends, np.full(len(ends), 0.05)],
-                                                  radii=0.06), static=True)
+    rec.log(
+        f"world/ball_ends/{name}",
+        rr.Points3D(np.c_[ends, np.full(len(ends), 0.05)], radii=0.06),
+        static=True,
+    )
     starts = kicks.with_row_index().group_by("episode").agg(pl.col("index").min())
     for episode, first in starts.sort("episode").iter_rows():
         rec.set_time(_EVENT, sequence=int(first))
@@ -54,8 +61,11 @@ def _log_kicks(rec: rr.RecordingStream, name: str, kicks: pl.DataFrame) -> None:
 def _log_walks(rec: rr.RecordingStream, name: str, runs: pl.DataFrame) -> None:
     index = [rr.TimeColumn(_EVENT, sequence=np.arange(runs.height))]
     for column in ("speed_m_s", "y_error_m"):
-        rec.send_columns(f"trial/{column}/{name}", indexes=index,
-                         columns=rr.Scalars.columns(scalars=runs[column].to_numpy()))
+        rec.send_columns(
+            f"trial/{column}/{name}",
+            indexes=index,
+            columns=rr.Scalars.columns(scalars=runs[column].to_numpy()),
+        )
     counts, _ = np.histogram(runs["speed_m_s"].to_numpy(), bins=np.arange(0.0, 1.5, 0.05))
     rec.log(f"histogram/{name}", rr.BarChart(counts), static=True)
 
@@ -78,41 +88,68 @@ def log_trial(rec: rr.RecordingStream, result) -> None:
         (_log_kicks if result.kind == "kick" else _log_walks)(rec, _slug(label), part)
     for label, trace in result.traces.items():
         _log_replay(rec, _slug(label), trace)
-    rec.log("summary", rr.TextDocument(_markdown(result.summary), media_type="text/markdown"),
-            static=True)
+    rec.log(
+        "summary",
+        rr.TextDocument(_markdown(result.summary), media_type="text/markdown"),
+        static=True,
+    )
 
 
 def _markdown(summary: pl.DataFrame) -> str:
     from mimic.trials.report import to_markdown
+
     return to_markdown(summary)
 
 
 def trial_blueprint(result) -> rrb.Blueprint:
     """Curves and the summary on the left; the field with where the balls ended, one 3D replay
     per traced variant, the distance or speed histogram and episode markers on the right."""
-    views = [rrb.TimeSeriesView(origin=f"trial/{m}", name=m) for m in
-             (("distance_m", "running_accuracy_pct") if result.kind == "kick"
-              else ("speed_m_s", "y_error_m"))]
-    field = [rrb.Spatial3DView(origin=WORLD, name="field",
-                               contents=[f"{WORLD}/field/**", f"{WORLD}/ball_ends/**"])]
-    replays = [rrb.Spatial3DView(origin=WORLD, name=f"first episode: {label}",
-                                 contents=[f"{WORLD}/field/**", f"{_REPLAY}/{_slug(label)}/**"])
-               for label in result.traces]
-    return rrb.Blueprint(rrb.Horizontal(
-        rrb.Vertical(*views, rrb.TextDocumentView(origin="summary")),
-        rrb.Vertical(rrb.Tabs(*field, *replays),
-                     rrb.BarChartView(origin="histogram", name="histogram"),
-                     rrb.TextLogView(origin="episodes")),
-    ))
+    views = [
+        rrb.TimeSeriesView(origin=f"trial/{m}", name=m)
+        for m in (
+            ("distance_m", "running_accuracy_pct")
+            if result.kind == "kick"
+            else ("speed_m_s", "y_error_m")
+        )
+    ]
+    field = [
+        rrb.Spatial3DView(
+            origin=WORLD, name="field", contents=[f"{WORLD}/field/**", f"{WORLD}/ball_ends/**"]
+        )
+    ]
+    replays = [
+        rrb.Spatial3DView(
+            origin=WORLD,
+            name=f"first episode: {label}",
+            contents=[f"{WORLD}/field/**", f"{_REPLAY}/{_slug(label)}/**"],
+        )
+        for label in result.traces
+    ]
+    return rrb.Blueprint(
+        rrb.Horizontal(
+            rrb.Vertical(*views, rrb.TextDocumentView(origin="summary")),
+            rrb.Vertical(
+                rrb.Tabs(*field, *replays),
+                rrb.BarChartView(origin="histogram", name="histogram"),
+                rrb.TextLogView(origin="episodes"),
+            ),
+        )
+    )
 
 
 def save_trial_dashboard(result, path: Path, *, overwrite: bool = True) -> None:
     """Write the dashboard of a trial to an .rrd file with its blueprint (under a temporary
     name, moved into place when complete: ``mimic.files``)."""
     from mimic.viz.save import save_rrd
+
     rec = rr.RecordingStream("mimic_trial")
-    save_rrd(rec, path, lambda: log_trial(rec, result), blueprint=trial_blueprint(result),
-             overwrite=overwrite)
+    save_rrd(
+        rec,
+        path,
+        lambda: log_trial(rec, result),
+        blueprint=trial_blueprint(result),
+        overwrite=overwrite,
+    )
 
 
 def show_trial_dashboard(result) -> None:

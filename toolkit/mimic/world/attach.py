@@ -50,11 +50,13 @@ def _mesh_paths_absolute(part: mujoco.MjSpec, mjcf_path: Path) -> None:
 def _add_sole_sites(part: mujoco.MjSpec, robot: RobotDescription) -> None:
     for site_name, foot in zip(FOOT_SITES, robot.foot_links):
         (x, y, z), (hx, hy) = sole_box(robot.mjcf_path, foot)
-        part.body(foot).add_site(name=site_name, type=mujoco.mjtGeom.mjGEOM_BOX,
-                                 pos=[x, y, z],
-                                 size=[hx + SOLE_SITE_MARGIN_M, hy + SOLE_SITE_MARGIN_M,
-                                       SOLE_SITE_HALF_HEIGHT_M],
-                                 group=3)
+        part.body(foot).add_site(
+            name=site_name,
+            type=mujoco.mjtGeom.mjGEOM_BOX,
+            pos=[x, y, z],
+            size=[hx + SOLE_SITE_MARGIN_M, hy + SOLE_SITE_MARGIN_M, SOLE_SITE_HALF_HEIGHT_M],
+            group=3,
+        )
 
 
 def _add_motors(spec: mujoco.MjSpec, robot: RobotDescription) -> None:
@@ -71,15 +73,18 @@ def _add_motors(spec: mujoco.MjSpec, robot: RobotDescription) -> None:
 
 def _add_sensors(spec: mujoco.MjSpec, robot: RobotDescription) -> None:
     S, site = mujoco.mjtSensor, mujoco.mjtObj.mjOBJ_SITE
-    for name, kind, obj in [("gyro", S.mjSENS_GYRO, robot.imu_site),
-                            ("accelerometer", S.mjSENS_ACCELEROMETER, robot.imu_site),
-                            ("torso_quat", S.mjSENS_FRAMEQUAT, robot.imu_site),
-                            *[(f"{s}_touch", S.mjSENS_TOUCH, s) for s in FOOT_SITES]]:
+    for name, kind, obj in [
+        ("gyro", S.mjSENS_GYRO, robot.imu_site),
+        ("accelerometer", S.mjSENS_ACCELEROMETER, robot.imu_site),
+        ("torso_quat", S.mjSENS_FRAMEQUAT, robot.imu_site),
+        *[(f"{s}_touch", S.mjSENS_TOUCH, s) for s in FOOT_SITES],
+    ]:
         spec.add_sensor(name=name, type=kind, objtype=site, objname=obj)
 
 
-def attached_robot_model(robot: RobotDescription, physics: PhysicsConfig,
-                         field: Field | None = None) -> mujoco.MjModel:
+def attached_robot_model(
+    robot: RobotDescription, physics: PhysicsConfig, field: Field | None = None
+) -> mujoco.MjModel:
     """The compiled scene: ``field`` (default: the robot's, ``field_for_robot``) and its
     ball with ``robot`` (which has ``mjcf_path``)."""
     field = field or field_for_robot(robot.world)

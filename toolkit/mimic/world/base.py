@@ -102,9 +102,15 @@ class World(ABC):
         """Everything back to the start."""
 
     @abstractmethod
-    def place_robot(self, x_m: float, y_m: float, yaw_rad: float = 0.0,
-                    joint_angles_rad: np.ndarray | None = None, *,
-                    posture: str = "standing") -> None:
+    def place_robot(
+        self,
+        x_m: float,
+        y_m: float,
+        yaw_rad: float = 0.0,
+        joint_angles_rad: np.ndarray | None = None,
+        *,
+        posture: str = "standing",
+    ) -> None:
         """Put the robot at (x, y) facing ``yaw_rad``, at rest, in ``posture`` (``POSTURES``).
 
         ``joint_angles_rad``: (N,) pose of the joints (default: zero pose).

@@ -11,10 +11,23 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 __all__ = [
-    "Field", "Contact", "NAO_FIELD", "field_for_robot",
-    "FIELD_LENGTH_M", "FIELD_WIDTH_M", "GOAL_WIDTH_M", "GOAL_HEIGHT_M", "GOAL_DEPTH_M",
-    "PENALTY_DEPTH_M", "PENALTY_WIDTH_M", "CENTRE_CIRCLE_RADIUS_M", "LINE_WIDTH_M",
-    "BALL_RADIUS_M", "BALL_MASS_KG", "OPPONENT_GOAL_X_M", "OWN_GOAL_X_M",
+    "Field",
+    "Contact",
+    "NAO_FIELD",
+    "field_for_robot",
+    "FIELD_LENGTH_M",
+    "FIELD_WIDTH_M",
+    "GOAL_WIDTH_M",
+    "GOAL_HEIGHT_M",
+    "GOAL_DEPTH_M",
+    "PENALTY_DEPTH_M",
+    "PENALTY_WIDTH_M",
+    "CENTRE_CIRCLE_RADIUS_M",
+    "LINE_WIDTH_M",
+    "BALL_RADIUS_M",
+    "BALL_MASS_KG",
+    "OPPONENT_GOAL_X_M",
+    "OWN_GOAL_X_M",
 ]
 
 FIELD_LENGTH_M = 30.0
@@ -87,20 +100,31 @@ class Field:
     def goal(self, ball_pos_m) -> bool:
         """Ball wholly behind the opponent goal line, between the posts, under the bar."""
         x, y, z = ball_pos_m
-        return (x > self.opponent_goal_x_m + self.ball_radius_m
-                and abs(y) < self.goal_width_m / 2 and z < self.goal_height_m)
+        return (
+            x > self.opponent_goal_x_m + self.ball_radius_m
+            and abs(y) < self.goal_width_m / 2
+            and z < self.goal_height_m
+        )
 
     def out(self, ball_pos_m) -> bool:
         """Ball wholly outside the field lines (and not a goal)."""
         x, y, _ = ball_pos_m
         r = self.ball_radius_m
-        return ((abs(x) > self.length_m / 2 + r or abs(y) > self.width_m / 2 + r)
-                and not self.goal(ball_pos_m))
+        return (abs(x) > self.length_m / 2 + r or abs(y) > self.width_m / 2 + r) and not self.goal(
+            ball_pos_m
+        )
 
 
 #: The study's field (the RoboCup Soccer 3D league's SimSpark field) and ball.
-NAO_FIELD = Field(FIELD_LENGTH_M, FIELD_WIDTH_M, GOAL_WIDTH_M, GOAL_HEIGHT_M, GOAL_DEPTH_M,
-                  BALL_RADIUS_M, BALL_MASS_KG)
+NAO_FIELD = Field(
+    FIELD_LENGTH_M,
+    FIELD_WIDTH_M,
+    GOAL_WIDTH_M,
+    GOAL_HEIGHT_M,
+    GOAL_DEPTH_M,
+    BALL_RADIUS_M,
+    BALL_MASS_KG,
+)
 
 
 def field_for_robot(world: str) -> Field:

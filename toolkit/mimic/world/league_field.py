@@ -43,8 +43,9 @@ def league_world_xml() -> Path:
     try:
         package = resources.files("rcsssmj")
     except ModuleNotFoundError:
-        raise MimicError("the league field comes with the league simulator: pip install "
-                         "rcsssmj") from None
+        raise MimicError(
+            "the league field comes with the league simulator: pip install rcsssmj"
+        ) from None
     path = Path(str(package / "resources" / "environments" / "soccer" / "world.xml"))
     if not path.is_file():
         raise MimicError(f"rcsssmj has no {path}; pip install --upgrade rcsssmj")
@@ -57,8 +58,12 @@ def _world_spec() -> mujoco.MjSpec:
 
 
 def _contact(geom) -> Contact:
-    return Contact(friction=tuple(float(f) for f in geom.friction), condim=int(geom.condim),
-                   solref=tuple(float(r) for r in geom.solref), priority=int(geom.priority))
+    return Contact(
+        friction=tuple(float(f) for f in geom.friction),
+        condim=int(geom.condim),
+        solref=tuple(float(r) for r in geom.solref),
+        priority=int(geom.priority),
+    )
 
 
 @cache
@@ -76,15 +81,20 @@ def league_field() -> Field:
     goal_depth, goal_width, goal_height = field.goal_dim
     penalty_depth, penalty_width = field.penalty_area_dim or field.goalie_area_dim
     return Field(
-        length_m=float(length), width_m=float(width),
-        goal_width_m=float(goal_width), goal_height_m=float(goal_height),
+        length_m=float(length),
+        width_m=float(width),
+        goal_width_m=float(goal_width),
+        goal_height_m=float(goal_height),
         goal_depth_m=float(goal_depth),
-        ball_radius_m=float(ball.size[0]), ball_mass_kg=float(ball.mass),
-        penalty_depth_m=float(penalty_depth), penalty_width_m=float(penalty_width),
+        ball_radius_m=float(ball.size[0]),
+        ball_mass_kg=float(ball.mass),
+        penalty_depth_m=float(penalty_depth),
+        penalty_width_m=float(penalty_width),
         centre_circle_radius_m=float(field.center_circle_radius),
         line_width_m=float(field.line_width),
         goal_post_radius_m=float(field.goal_post_radius),
-        ball_contact=_contact(ball), ground_contact=_contact(pitch),
+        ball_contact=_contact(ball),
+        ground_contact=_contact(pitch),
     )
 
 

@@ -35,8 +35,12 @@ class MujocoWorld(World):
             for league robots, the study's for our NAO).
     """
 
-    def __init__(self, robot: RobotDescription | str | None = None,
-                 physics: PhysicsConfig | None = None, field: Field | None = None) -> None:
+    def __init__(
+        self,
+        robot: RobotDescription | str | None = None,
+        physics: PhysicsConfig | None = None,
+        field: Field | None = None,
+    ) -> None:
         self.robot = get_robot(robot)
         self.field = field or field_for_robot(self.robot.world)
         self.physics = physics or PhysicsConfig.for_robot(self.robot)
@@ -56,16 +60,23 @@ class MujocoWorld(World):
         ball = m.joint("ball")
         self._ball_q = int(m.jnt_qposadr[ball.id])
         self._ball_v = int(m.jnt_dofadr[ball.id])
-        self._sensor = {name: slice(int(m.sensor(name).adr[0]),
-                                    int(m.sensor(name).adr[0] + m.sensor(name).dim[0]))
-                        for name in ("gyro", "accelerometer", "torso_quat", *FOOT_TOUCH_SENSORS)}
+        self._sensor = {
+            name: slice(
+                int(m.sensor(name).adr[0]), int(m.sensor(name).adr[0] + m.sensor(name).dim[0])
+            )
+            for name in ("gyro", "accelerometer", "torso_quat", *FOOT_TOUCH_SENSORS)
+        }
         self.torso_body_id = root.id
         self.ball_body_id = m.body("ball").id
         self._link_names = tuple(link.name for link in self.robot.links)
         self._link_ids = _readonly([m.body(n).id for n in self._link_names])
-        self._robot_geoms = _readonly([g for g in range(m.ngeom)
-                                       if m.geom_bodyid[g] in set(self._link_ids.tolist())
-                                       and m.geom_contype[g] != 0])
+        self._robot_geoms = _readonly(
+            [
+                g
+                for g in range(m.ngeom)
+                if m.geom_bodyid[g] in set(self._link_ids.tolist()) and m.geom_contype[g] != 0
+            ]
+        )
         self.cycle = 0
 
     # --- placing things -------------------------------------------------------------------
@@ -74,18 +85,27 @@ class MujocoWorld(World):
         self.cycle = 0
         mujoco.mj_forward(self.model, self.data)
 
-    def place_robot(self, x_m: float, y_m: float, yaw_rad: float = 0.0,
-                    joint_angles_rad: np.ndarray | None = None, *,
-                    posture: str = "standing") -> None:
+    def place_robot(
+        self,
+        x_m: float,
+        y_m: float,
+        yaw_rad: float = 0.0,
+        joint_angles_rad: np.ndarray | None = None,
+        *,
+        posture: str = "standing",
+    ) -> None:
         d = self.data
-        q = self.robot.zeros() if joint_angles_rad is None else \
-            self.robot.check_vector(joint_angles_rad, "start pose")
+        q = (
+            self.robot.zeros()
+            if joint_angles_rad is None
+            else self.robot.check_vector(joint_angles_rad, "start pose")
+        )
         d.qpos[self.qpos_idx] = q
-        d.qvel[self._root_v:self._root_v + 6] = 0.0
+        d.qvel[self._root_v : self._root_v + 6] = 0.0
         d.qvel[self.qvel_idx] = 0.0
         rot = posture_quat(yaw_rad, posture)
-        d.qpos[self._root_q:self._root_q + 3] = (x_m, y_m, 1.0)
-        d.qpos[self._root_q + 3:self._root_q + 7] = rot
+        d.qpos[self._root_q : self._root_q + 3] = (x_m, y_m, 1.0)
+        d.qpos[self._root_q + 3 : self._root_q + 7] = rot
         mujoco.mj_kinematics(self.model, self.data)
         lowest = self._lowest_robot_point_m()
         d.qpos[self._root_q + 2] = 1.0 - lowest + 0.001
@@ -98,29 +118,35 @@ class MujocoWorld(World):
             size, pos, mat = m.geom_size[g], d.geom_xpos[g], d.geom_xmat[g].reshape(3, 3)
             kind = m.geom_type[g]
             if kind == mujoco.mjtGeom.mjGEOM_BOX:
-                corners = np.array([[sx, sy, sz] for sx in (-1, 1) for sy in (-1, 1)
-                                    for sz in (-1, 1)]) * size
+                corners = (
+                    np.array([[sx, sy, sz] for sx in (-1, 1) for sy in (-1, 1) for sz in (-1, 1)])
+                    * size
+                )
                 lowest = min(lowest, (corners @ mat.T)[:, 2].min() + pos[2])
             elif kind == mujoco.mjtGeom.mjGEOM_MESH:
                 lowest = min(lowest, pos[2] - m.geom_rbound[g])
             else:  # sphere, capsule, cylinder: radius, plus the half length along z if any
-                half = size[1] * abs(mat[2, 2]) if kind in (mujoco.mjtGeom.mjGEOM_CAPSULE,
-                                                            mujoco.mjtGeom.mjGEOM_CYLINDER) else 0
+                half = (
+                    size[1] * abs(mat[2, 2])
+                    if kind in (mujoco.mjtGeom.mjGEOM_CAPSULE, mujoco.mjtGeom.mjGEOM_CYLINDER)
+                    else 0
+                )
                 lowest = min(lowest, pos[2] - size[0] - half)
         return float(lowest)
 
     def place_ball(self, x_m: float, y_m: float) -> None:
         d = self.data
-        d.qpos[self._ball_q:self._ball_q + 7] = (x_m, y_m, self.field.ball_radius_m, 1, 0, 0, 0)
-        d.qvel[self._ball_v:self._ball_v + 6] = 0.0
+        d.qpos[self._ball_q : self._ball_q + 7] = (x_m, y_m, self.field.ball_radius_m, 1, 0, 0, 0)
+        d.qvel[self._ball_v : self._ball_v + 6] = 0.0
         mujoco.mj_forward(self.model, self.data)
 
     # --- stepping -------------------------------------------------------------------------
     def step(self, command: JointCommand) -> None:
         """Turn the command into controls (the robot's actuator model), advance one cycle."""
         angles = self.data.qpos[self.qpos_idx]
-        self.data.ctrl[self.ctrl_idx] = self.robot.actuator.controls(command, angles,
-                                                                     self.robot.name)
+        self.data.ctrl[self.ctrl_idx] = self.robot.actuator.controls(
+            command, angles, self.robot.name
+        )
         mujoco.mj_step(self.model, self.data, nstep=self.substeps)
         self.cycle += 1
 
@@ -142,21 +168,21 @@ class MujocoWorld(World):
             accelerometer_m_s2=d.sensordata[s["accelerometer"]].copy(),
             torso_quat_wxyz=d.sensordata[s["torso_quat"]].copy(),
             foot_forces_n=np.array([d.sensordata[s[name]][0] for name in FOOT_TOUCH_SENSORS]),
-            torso_pos_m=d.qpos[self._root_q:self._root_q + 3].copy(),
-            ball_pos_m=d.qpos[self._ball_q:self._ball_q + 3].copy(),
+            torso_pos_m=d.qpos[self._root_q : self._root_q + 3].copy(),
+            ball_pos_m=d.qpos[self._ball_q : self._ball_q + 3].copy(),
         )
 
     def torso_pos_m(self) -> np.ndarray:
-        return self.data.qpos[self._root_q:self._root_q + 3].copy()
+        return self.data.qpos[self._root_q : self._root_q + 3].copy()
 
     def torso_quat_wxyz(self) -> np.ndarray:
-        return self.data.qpos[self._root_q + 3:self._root_q + 7].copy()
+        return self.data.qpos[self._root_q + 3 : self._root_q + 7].copy()
 
     def ball_pos_m(self) -> np.ndarray:
-        return self.data.qpos[self._ball_q:self._ball_q + 3].copy()
+        return self.data.qpos[self._ball_q : self._ball_q + 3].copy()
 
     def ball_speed_m_s(self) -> float:
-        return float(np.linalg.norm(self.data.qvel[self._ball_v:self._ball_v + 3]))
+        return float(np.linalg.norm(self.data.qvel[self._ball_v : self._ball_v + 3]))
 
     def centre_of_mass_m(self) -> np.ndarray:
         """(3,) robot centre of mass in the field frame [m]."""
@@ -164,5 +190,8 @@ class MujocoWorld(World):
 
     def body_poses(self) -> BodyPoses:
         mujoco.mj_kinematics(self.model, self.data)  # xpos lags qpos after mj_step
-        return BodyPoses(self._link_names, self.data.xpos[self._link_ids].copy(),
-                         self.data.xquat[self._link_ids].copy())
+        return BodyPoses(
+            self._link_names,
+            self.data.xpos[self._link_ids].copy(),
+            self.data.xquat[self._link_ids].copy(),
+        )

@@ -65,25 +65,38 @@ class PhysicsConfig:
         from mimic.world.league_field import league_air
 
         air = league_air()
-        return cls(timestep_s=air.timestep_s, air_density_kg_m3=air.density_kg_m3,
-                   air_viscosity_pa_s=air.viscosity_pa_s)
+        return cls(
+            timestep_s=air.timestep_s,
+            air_density_kg_m3=air.density_kg_m3,
+            air_viscosity_pa_s=air.viscosity_pa_s,
+        )
 
 
 def _field_lines_xml(f: Field) -> str:
     """Thin, non-colliding boxes just above the grass."""
     half_l, half_w, w = f.length_m / 2, f.width_m / 2, f.line_width_m / 2
     boxes = [
-        (0, half_w, half_l, w), (0, -half_w, half_l, w),  # touch lines
-        (half_l, 0, w, half_w), (-half_l, 0, w, half_w), (0, 0, w, half_w),  # goal + halfway
+        (0, half_w, half_l, w),
+        (0, -half_w, half_l, w),  # touch lines
+        (half_l, 0, w, half_w),
+        (-half_l, 0, w, half_w),
+        (0, 0, w, half_w),  # goal + halfway
     ]
     for sx in (1, -1):  # penalty areas
         x_in = sx * (half_l - f.penalty_depth_m)
         boxes.append((x_in, 0, w, f.penalty_width_m / 2))
         for sy in (1, -1):
-            boxes.append((sx * (half_l - f.penalty_depth_m / 2), sy * f.penalty_width_m / 2,
-                          f.penalty_depth_m / 2, w))
-    rows = [f'<geom class="line" pos="{x} {y} 0.001" size="{sx} {sy} 0.001"/>'
-            for x, y, sx, sy in boxes]
+            boxes.append(
+                (
+                    sx * (half_l - f.penalty_depth_m / 2),
+                    sy * f.penalty_width_m / 2,
+                    f.penalty_depth_m / 2,
+                    w,
+                )
+            )
+    rows = [
+        f'<geom class="line" pos="{x} {y} 0.001" size="{sx} {sy} 0.001"/>' for x, y, sx, sy in boxes
+    ]
     n, radius = 24, f.centre_circle_radius_m
     for k in range(n):  # centre circle as short segments
         a = 2 * math.pi * (k + 0.5) / n
@@ -91,7 +104,8 @@ def _field_lines_xml(f: Field) -> str:
         rows.append(
             f'<geom class="line" pos="{radius * math.cos(a):.4f} '
             f'{radius * math.sin(a):.4f} 0.001" size="{w} {seg:.4f} 0.001" '
-            f'euler="0 0 {a:.4f}"/>')
+            f'euler="0 0 {a:.4f}"/>'
+        )
     return "\n    ".join(rows)
 
 
@@ -113,8 +127,9 @@ def _goal_xml(f: Field, name: str, sign: int) -> str:
     </body>"""
 
 
-def build_model(robot: RobotDescription, physics: PhysicsConfig,
-                field: Field | None = None) -> mujoco.MjModel:
+def build_model(
+    robot: RobotDescription, physics: PhysicsConfig, field: Field | None = None
+) -> mujoco.MjModel:
     """The compiled scene with ``robot`` in it, on ``field`` (default: the robot's,
     ``field_for_robot``)."""
     field = field or field_for_robot(robot.world)
@@ -139,19 +154,28 @@ def _air_xml(config: PhysicsConfig) -> str:
     return f' density="{config.air_density_kg_m3:g}" viscosity="{config.air_viscosity_pa_s:g}"'
 
 
-def scene_xml(config: PhysicsConfig = PhysicsConfig(),
-              servos: SpeedServos | None = SpeedServos(), field: Field = NAO_FIELD) -> str:
+def scene_xml(
+    config: PhysicsConfig = PhysicsConfig(),
+    servos: SpeedServos | None = SpeedServos(),
+    field: Field = NAO_FIELD,
+) -> str:
     """The whole world as one MJCF document, with our NAO (or, for ``servos=None``, without
     a robot: the field a robot from an MJCF file is attached to), on ``field``."""
     f = field
     half_l, half_w = f.length_m / 2 + 2, f.width_m / 2 + 2
     b = config
-    ground = (_contact_xml(f.ground_contact) if f.ground_contact else
-              f'friction="{b.ground_friction} 0.02 0.001" condim="3"')
+    ground = (
+        _contact_xml(f.ground_contact)
+        if f.ground_contact
+        else f'friction="{b.ground_friction} 0.02 0.001" condim="3"'
+    )
     touches = 'contype="1" conaffinity="3"'
-    ball = (f"{touches} {_contact_xml(f.ball_contact)}" if f.ball_contact else
-            f'condim="6" {touches} friction="0.8 {b.ball_torsional_friction_m} '
-            f'{b.ball_rolling_friction_m}"\n            solref="0.005 0.6"')
+    ball = (
+        f"{touches} {_contact_xml(f.ball_contact)}"
+        if f.ball_contact
+        else f'condim="6" {touches} friction="0.8 {b.ball_torsional_friction_m} '
+        f'{b.ball_rolling_friction_m}"\n            solref="0.005 0.6"'
+    )
     return f"""<mujoco model="mimic_soccer">
   <compiler angle="radian" autolimits="true"/>
   <!-- impratio stays at 1: a high ratio made 4 ms steps unstable with the stiff servos. -->

@@ -28,4 +28,5 @@ def make_walk(vx_m_s: float | None = None) -> OtherTeamWalk:
 def make_kick():
     """The team's right-foot kick; its ``ball_offset_m`` says where it wants the ball."""
     from mimic.agents.other_team.kick import OtherTeamKick
+
     return OtherTeamKick(KickParams())

@@ -63,10 +63,17 @@ class LegGeometry:
         roll = np.array(body_by_name("left_foot").anchor)
         foot = body_by_name("left_foot")
         sole = np.array(foot.centre) - np.array([0.0, 0.0, foot.size[2] / 2])
+
         def pair(a: np.ndarray, b: np.ndarray) -> tuple[float, float]:
             return float(b[0] - a[0]), float(b[2] - a[2])
-        return cls(tuple(float(v) for v in hip), pair(hip, knee), pair(knee, ankle),
-                   float(ankle[2] - roll[2]), pair(roll, sole))
+
+        return cls(
+            tuple(float(v) for v in hip),
+            pair(hip, knee),
+            pair(knee, ankle),
+            float(ankle[2] - roll[2]),
+            pair(roll, sole),
+        )
 
     def hip(self, side: float) -> np.ndarray:
         """(3,) hip anchor of a leg (``side`` +1 left, -1 right) [m]."""
@@ -83,8 +90,9 @@ def _hyp_frame(side: float) -> tuple[np.ndarray, float]:
     return (math.radians(45.0), -1.0) if side > 0 else (math.radians(-45.0), 1.0)
 
 
-def leg_ik(side: float, ankle_m: np.ndarray, foot_rot: np.ndarray,
-           geom: LegGeometry = LEG) -> np.ndarray:
+def leg_ik(
+    side: float, ankle_m: np.ndarray, foot_rot: np.ndarray, geom: LegGeometry = LEG
+) -> np.ndarray:
     """Joint angles of one leg putting its ankle-roll point and foot at a pose.
 
     Args:

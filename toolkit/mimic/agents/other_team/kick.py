@@ -44,13 +44,14 @@ class OtherTeamKick(Agent):
         # Waypoints: (time [s], torso shift over the support foot (0..1), kicker (dx, dz) [m]).
         t, marks = 0.0, []
         for dur, shift, dx, dz in (
-                (0.0, 0.0, 0.0, 0.0),
-                (p.shift_s, 1.0, 0.0, 0.0),
-                (p.windup_s, 1.0, p.windup_x_m, p.windup_z_m),
-                (p.swing_s, 1.0, p.strike_x_m, p.strike_z_m),
-                (p.retract_s, 1.0, 0.0, p.windup_z_m),
-                (p.down_s, 1.0, 0.0, 0.0),
-                (p.recover_s, 0.0, 0.0, 0.0)):
+            (0.0, 0.0, 0.0, 0.0),
+            (p.shift_s, 1.0, 0.0, 0.0),
+            (p.windup_s, 1.0, p.windup_x_m, p.windup_z_m),
+            (p.swing_s, 1.0, p.strike_x_m, p.strike_z_m),
+            (p.retract_s, 1.0, 0.0, p.windup_z_m),
+            (p.down_s, 1.0, 0.0, 0.0),
+            (p.recover_s, 0.0, 0.0, 0.0),
+        ):
             t += dur
             marks.append((t, shift, dx, dz))
         self._marks = marks

@@ -15,15 +15,22 @@ __all__ = ["LEG_IDX", "ARM_IDX", "legs_to_joints", "servo_speeds", "torso_pitch_
 
 _LEG_PARTS = ("hip_yaw_pitch", "hip_roll", "hip_pitch", "knee_pitch", "ankle_pitch", "ankle_roll")
 #: Joint-table indices of each leg's six joints, keyed by side (+1 left, -1 right).
-LEG_IDX = {s: np.array([joint_index(f"{n}_{p}") for p in _LEG_PARTS])
-           for s, n in ((1.0, "left"), (-1.0, "right"))}
+LEG_IDX = {
+    s: np.array([joint_index(f"{n}_{p}") for p in _LEG_PARTS])
+    for s, n in ((1.0, "left"), (-1.0, "right"))
+}
 #: Joint-table indices of (shoulder pitch, shoulder roll), keyed by side.
-ARM_IDX = {s: np.array([joint_index(f"{n}_shoulder_pitch"), joint_index(f"{n}_shoulder_roll")])
-           for s, n in ((1.0, "left"), (-1.0, "right"))}
+ARM_IDX = {
+    s: np.array([joint_index(f"{n}_shoulder_pitch"), joint_index(f"{n}_shoulder_roll")])
+    for s, n in ((1.0, "left"), (-1.0, "right"))
+}
 
 
-def legs_to_joints(feet: dict[float, tuple[np.ndarray, np.ndarray]],
-                   shoulder_pitch_rad: float, shoulder_roll_rad: float) -> np.ndarray:
+def legs_to_joints(
+    feet: dict[float, tuple[np.ndarray, np.ndarray]],
+    shoulder_pitch_rad: float,
+    shoulder_roll_rad: float,
+) -> np.ndarray:
     """(N,) joint targets [rad] for foot poses {side: (ankle point (3,), rotation (3, 3))}.
 
     The poses are in the torso frame; the head is held straight and the arms still.
@@ -36,8 +43,12 @@ def legs_to_joints(feet: dict[float, tuple[np.ndarray, np.ndarray]],
     return nao().clip(q)
 
 
-def servo_speeds(target_next_rad: np.ndarray, angles_rad: np.ndarray,
-                 servo: ServoParams, target_now_rad: np.ndarray | None = None) -> np.ndarray:
+def servo_speeds(
+    target_next_rad: np.ndarray,
+    angles_rad: np.ndarray,
+    servo: ServoParams,
+    target_now_rad: np.ndarray | None = None,
+) -> np.ndarray:
     """(N,) speeds [rad/s] that close ``gain`` of the gap to next cycle's targets, capped.
 
     With ``target_now_rad`` (this cycle's planned targets) the plan's own speed
@@ -49,4 +60,3 @@ def servo_speeds(target_next_rad: np.ndarray, angles_rad: np.ndarray,
         speed = speed + servo.feedforward * (target_next_rad - target_now_rad) / CYCLE_S
     cap = nao().actuator.max_speed_rad_s
     return np.clip(speed, -cap, cap)
-

@@ -51,8 +51,9 @@ class OtherTeamWalk(Agent):
         self._reset_state(nao().zeros(), 0.0)
 
     # --- state ----------------------------------------------------------------------------
-    def _reset_state(self, start_rad: np.ndarray, yaw_rad: float,
-                     xy_m: tuple[float, float] = (0.0, 0.0)) -> None:
+    def _reset_state(
+        self, start_rad: np.ndarray, yaw_rad: float, xy_m: tuple[float, float] = (0.0, 0.0)
+    ) -> None:
         self._cycle = 0
         self._start_xy_m = xy_m
         self._start_rad = np.asarray(start_rad, dtype=float).copy()
@@ -67,8 +68,11 @@ class OtherTeamWalk(Agent):
         self._to = dict(self._from)
 
     def reset(self, obs: Observation) -> None:
-        self._reset_state(obs.joint_angles_rad, obs.torso_yaw_rad,
-                          (float(obs.torso_pos_m[0]), float(obs.torso_pos_m[1])))
+        self._reset_state(
+            obs.joint_angles_rad,
+            obs.torso_yaw_rad,
+            (float(obs.torso_pos_m[0]), float(obs.torso_pos_m[1])),
+        )
         self.done = False
 
     # --- gait -----------------------------------------------------------------------------
@@ -82,15 +86,18 @@ class OtherTeamWalk(Agent):
         target = min(p.max_step_m, p.speed_m_s * self.step_s)
         self._step_m += float(np.clip(target - self._step_m, -p.step_ramp_m, p.step_ramp_m))
         # Steer back toward the start line: aim the heading at it, in proportion to the offset.
-        off_m = (-math.sin(self._heading_rad) * (obs.torso_pos_m[0] - self._start_xy_m[0])
-                 + math.cos(self._heading_rad) * (obs.torso_pos_m[1] - self._start_xy_m[1]))
+        off_m = -math.sin(self._heading_rad) * (
+            obs.torso_pos_m[0] - self._start_xy_m[0]
+        ) + math.cos(self._heading_rad) * (obs.torso_pos_m[1] - self._start_xy_m[1])
         aim = self._heading_rad - float(np.clip(p.line_gain * off_m, -_MAX_AIM_RAD, _MAX_AIM_RAD))
         err = math.remainder(obs.torso_yaw_rad - aim, 2 * math.pi)
         self._turn_rad = float(np.clip(-p.yaw_gain * err, -p.max_turn_rad, p.max_turn_rad))
         support = self._support(n)
         self._from = dict(self._to)
-        self._to = {support: (-self._step_m / 2, -self._turn_rad / 2),
-                    -support: (self._step_m / 2, self._turn_rad / 2)}
+        self._to = {
+            support: (-self._step_m / 2, -self._turn_rad / 2),
+            -support: (self._step_m / 2, self._turn_rad / 2),
+        }
 
     def _sway_m(self, phase: float) -> float:
         """Torso shift toward the support foot: pendulum cosh curve, 0 at both ends."""
@@ -113,9 +120,13 @@ class OtherTeamWalk(Agent):
                 s = 0.5 - 0.5 * math.cos(math.pi * swing)
                 lift = p.step_height_m * 0.5 * (1 - math.cos(2 * math.pi * swing))
             hip_w = lean @ LEG.hip(side)
-            pos_w = np.array([p.foot_x_m + x0 + (x1 - x0) * s,
-                              hip_w[1] + side * p.foot_spread_m - sway,
-                              hip_w[2] - p.walk_height_m + lift])
+            pos_w = np.array(
+                [
+                    p.foot_x_m + x0 + (x1 - x0) * s,
+                    hip_w[1] + side * p.foot_spread_m - sway,
+                    hip_w[2] - p.walk_height_m + lift,
+                ]
+            )
             yaw = a0 + (a1 - a0) * s
             feet[side] = (lean.T @ pos_w, lean.T @ rot_z(yaw))
         return feet
@@ -139,8 +150,9 @@ class OtherTeamWalk(Agent):
         if n != self._step_index:
             self._begin_step(n, obs)
         support = self._support(n)
-        q = legs_to_joints(self._feet((j + 1) / p.step_cycles, support),
-                           p.shoulder_pitch_rad, p.shoulder_roll_rad)
+        q = legs_to_joints(
+            self._feet((j + 1) / p.step_cycles, support), p.shoulder_pitch_rad, p.shoulder_roll_rad
+        )
         self._nominal_rad = q.copy()
         pitch, roll = torso_pitch_roll(obs.torso_quat_wxyz)
         # Gyro in the torso frame: +y tips it forward, +x tips it to the right.
@@ -162,6 +174,11 @@ class OtherTeamWalk(Agent):
         target = self.targets_rad(obs)
         self._cycle += 1
         # Feed forward the plan's own speed only: the IMU feedback is too noisy to differentiate.
-        return JointCommand.speeds(servo_speeds(
-            target, obs.joint_angles_rad, self.params.servo,
-            target_now_rad=planned_now + (target - self._nominal_rad)))
+        return JointCommand.speeds(
+            servo_speeds(
+                target,
+                obs.joint_angles_rad,
+                self.params.servo,
+                target_now_rad=planned_now + (target - self._nominal_rad),
+            )
+        )

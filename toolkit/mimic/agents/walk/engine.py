@@ -129,8 +129,9 @@ class WalkEngine(Agent):
         nominal walk stance blends into the stand pose on halting: the walk carries the
         torso ahead of the ankles, the stand pose nearly over them."""
         if self._halt_shift_m is None:
-            stand_x = np.mean([leg_fk(side, self._stand[_LEGS[i]])[0][0]
-                               for i, side in enumerate(_SIDES)])
+            stand_x = np.mean(
+                [leg_fk(side, self._stand[_LEGS[i]])[0][0] for i, side in enumerate(_SIDES)]
+            )
             self._halt_shift_m = float(self.config.ankle_x_m - stand_x)
         return self._halt_shift_m
 
@@ -185,8 +186,9 @@ class WalkEngine(Agent):
             if self._halt_from_walk:
                 self._halt_hold = self._walk_pose(self._plan.end, self._lean())
             else:
-                self._halt_hold = (self._prev_ref if self._prev_ref is not None
-                                   else self._blend_from).copy()
+                self._halt_hold = (
+                    self._prev_ref if self._prev_ref is not None else self._blend_from
+                ).copy()
 
     def act(self, obs: Observation) -> JointCommand:
         cfg = self.config
@@ -202,9 +204,12 @@ class WalkEngine(Agent):
         if self._prev_nominal is not None:
             planned = nominal - self._prev_nominal
             feedback = (ref - nominal) - (self._prev_ref - self._prev_nominal)
-            speeds = np.clip(speeds + (cfg.feedforward * planned
-                                       + cfg.feedback_feedforward * feedback) / CYCLE_S,
-                             -self._servos.max_speed_rad_s, self._servos.max_speed_rad_s)
+            speeds = np.clip(
+                speeds
+                + (cfg.feedforward * planned + cfg.feedback_feedforward * feedback) / CYCLE_S,
+                -self._servos.max_speed_rad_s,
+                self._servos.max_speed_rad_s,
+            )
         self._prev_nominal = nominal
         self._prev_ref = ref
         self.reference_rad = ref
@@ -218,7 +223,7 @@ class WalkEngine(Agent):
         # The torso yaws back and forth with every step: the heading hold steers on the
         # heading averaged over the last gait period (two steps).
         self._yaw_history.append((math.cos(yaw), math.sin(yaw)))
-        del self._yaw_history[:-2 * cfg.step_cycles]
+        del self._yaw_history[: -2 * cfg.step_cycles]
         c, s = np.mean(self._yaw_history, axis=0)
         self._mean_yaw_rad = math.atan2(s, c) if cfg.smooth_heading else yaw
         if self._state != "walking":
@@ -228,7 +233,7 @@ class WalkEngine(Agent):
             self._base_history = []
             return
         self._pos_history.append((float(obs.torso_pos_m[0]), float(obs.torso_pos_m[1])))
-        del self._pos_history[:-(2 * cfg.step_cycles + 1)]
+        del self._pos_history[: -(2 * cfg.step_cycles + 1)]
         # Anti-windup: when the turn lags the command, the desired heading waits for it. Only
         # the command's own advance waits: a heading knocked away (a slipping foot, a rocking
         # step) is not given up, else every such knock would stay in the walked direction.
@@ -236,8 +241,7 @@ class WalkEngine(Agent):
         # loop (go-to-pose) must not run far ahead of the torso, or the two loops ring.
         lead = min(cfg.max_heading_error_rad, abs(self._velocity[2]) * cfg.heading_lead_s)
         ahead = _wrap(self._heading_rad + self._velocity[2] * CYCLE_S - self._mean_yaw_rad)
-        if abs(ahead) <= lead or \
-                abs(ahead) < abs(_wrap(self._heading_rad - self._mean_yaw_rad)):
+        if abs(ahead) <= lead or abs(ahead) < abs(_wrap(self._heading_rad - self._mean_yaw_rad)):
             self._heading_rad = _wrap(self._heading_rad + self._velocity[2] * CYCLE_S)
         self._aim_rad = self._heading_rad
         if cfg.line_gain and self._velocity[1] == 0.0 and self._velocity[2] == 0.0:
@@ -248,9 +252,13 @@ class WalkEngine(Agent):
             c, s = math.cos(h), math.sin(h)
             offset = -s * (pos[0] - x0) + c * (pos[1] - y0)
             sign = 1.0 if self._velocity[0] >= 0 else -1.0
-            self._aim_rad = _wrap(h - sign * float(np.clip(cfg.line_gain * offset,
-                                                           -cfg.max_line_aim_rad,
-                                                           cfg.max_line_aim_rad)))
+            self._aim_rad = _wrap(
+                h
+                - sign
+                * float(
+                    np.clip(cfg.line_gain * offset, -cfg.max_line_aim_rad, cfg.max_line_aim_rad)
+                )
+            )
         elif cfg.side_line_gain and self._velocity[1] != 0.0 and self._velocity[2] == 0.0:
             # Sideways or diagonal: the heading must stay (it is part of the command), so the
             # line is held with steps across it instead of by steering.
@@ -260,8 +268,11 @@ class WalkEngine(Agent):
                 self._line = (float(pos[0]), float(pos[1]), travel)
             x0, y0, h = self._line
             offset = -math.sin(h) * (pos[0] - x0) + math.cos(h) * (pos[1] - y0)
-            back = float(np.clip(cfg.side_line_gain * offset, -cfg.max_side_line_step_m,
-                                 cfg.max_side_line_step_m))
+            back = float(
+                np.clip(
+                    cfg.side_line_gain * offset, -cfg.max_side_line_step_m, cfg.max_side_line_step_m
+                )
+            )
             across = h + math.pi / 2 - self._mean_yaw_rad  # the line's left, robot frame
             self._line_step = -back * np.array([math.cos(across), math.sin(across)])
         else:
@@ -300,8 +311,9 @@ class WalkEngine(Agent):
             want[2] += cfg.heading_gain * _wrap(self._aim_rad - yaw)
         high = np.array([cfg.max_step_x_m, cfg.max_step_y_m, cfg.max_step_yaw_rad])
         want = np.clip(want, -high, high)
-        lim = np.array([cfg.max_step_change_x_m, cfg.max_step_change_y_m,
-                        cfg.max_step_change_yaw_rad])
+        lim = np.array(
+            [cfg.max_step_change_x_m, cfg.max_step_change_y_m, cfg.max_step_change_yaw_rad]
+        )
         self._step_base = self._step_base + np.clip(want - self._step_base, -lim, lim)
         if cfg.caution_tilt_rad and self._peak_tilt > cfg.caution_tilt_rad:
             # The last step rocked the torso hard: shorter, straight steps until it calms.
@@ -342,8 +354,9 @@ class WalkEngine(Agent):
             wanted = self._base_history[-2] + self._base_history[-1]
             wanted[0] /= cfg.stride_scale
             lim = np.array([cfg.max_odometry_x_m, cfg.max_odometry_y_m])
-            self._odometry = np.clip(self._odometry + cfg.odometry_gain * (wanted - walked) / 2,
-                                     -lim, lim)
+            self._odometry = np.clip(
+                self._odometry + cfg.odometry_gain * (wanted - walked) / 2, -lim, lim
+            )
         return self._odometry * self._odometry_weight()
 
     def _odometry_weight(self) -> float:
@@ -400,8 +413,7 @@ class WalkEngine(Agent):
         a = min(1.0, max(0.0, self._blend_t - settle) / cfg.blend_s)
         a = 0.5 * (1 - math.cos(math.pi * a))
         nominal = (1 - a) * hold + a * self._stand
-        ref = nominal + (1 - a) * (self._feedback(nominal.copy(), obs, both_support=True)
-                                   - nominal)
+        ref = nominal + (1 - a) * (self._feedback(nominal.copy(), obs, both_support=True) - nominal)
         if self._blend_t >= settle + cfg.blend_s - 1e-9:
             self._begin("standing")
         return nominal, ref
@@ -416,8 +428,9 @@ class WalkEngine(Agent):
     def _at_rest(self) -> bool:
         """The ramped command is zero and the last step ended near the nominal stance."""
         feet = np.array([nominal_foot(self.config, 0), nominal_foot(self.config, 1)])
-        return (not np.any(self._step_base)
-                and bool(np.abs(self._plan.end - feet).max() < self.config.rest_tolerance_m))
+        return not np.any(self._step_base) and bool(
+            np.abs(self._plan.end - feet).max() < self.config.rest_tolerance_m
+        )
 
     def _start_step(self, first: bool = False) -> None:
         end = self._plan.end
@@ -432,8 +445,9 @@ class WalkEngine(Agent):
         del self._base_history[:-2]
         self._plan = plan_step(self.config, support, end, self._step_cmd)
 
-    def _feedback(self, ref: np.ndarray, obs: Observation,
-                  both_support: bool = False) -> np.ndarray:
+    def _feedback(
+        self, ref: np.ndarray, obs: Observation, both_support: bool = False
+    ) -> np.ndarray:
         """``ref`` plus IMU feedback (in place): torso tilt onto both hips and, as foot
         placement, onto the swing hip; torso tilt onto the support ankle, gyro rates onto both
         ankles."""

@@ -212,7 +212,11 @@ def feet_at(cfg: WalkConfig, plan: StepPlan, phase: float, sway_scale: float = 1
     feet[sw, 2] += cfg.step_height_m * 0.5 * (1 - math.cos(2 * math.pi * swing))
     # Torso sways toward the support foot: both feet shift the other way in the walk frame.
     toward = 1.0 if sup == 0 else -1.0
-    sway = (sway_scale * cfg.sway_gain * cfg.ankle_half_width_m
-            * lateral_fraction(phase, k, cfg.step_time_s))
+    sway = (
+        sway_scale
+        * cfg.sway_gain
+        * cfg.ankle_half_width_m
+        * lateral_fraction(phase, k, cfg.step_time_s)
+    )
     feet[:, 1] -= toward * sway
     return feet

@@ -147,8 +147,14 @@ class GoToPose(Agent):
     def _smoothed_errors(self, obs: Observation) -> tuple[float, float, float]:
         """``errors`` of the torso pose averaged over the last gait period: the torso sways
         and yaws with every step, and steering on that swing would feed it."""
-        self._history.append((float(obs.torso_pos_m[0]), float(obs.torso_pos_m[1]),
-                              math.cos(obs.torso_yaw_rad), math.sin(obs.torso_yaw_rad)))
+        self._history.append(
+            (
+                float(obs.torso_pos_m[0]),
+                float(obs.torso_pos_m[1]),
+                math.cos(obs.torso_yaw_rad),
+                math.sin(obs.torso_yaw_rad),
+            )
+        )
         n = max(1, round(self.engine.period_s / CYCLE_S))
         del self._history[:-n]
         px, py, c, s = np.mean(self._history, axis=0)
@@ -188,8 +194,9 @@ class GoToPose(Agent):
             self._approaching = abs(robot[1]) < 2 * lane and robot[0] < ball[0] - 0.1
         else:
             aligned = abs(wrap_angle(heading - obs.torso_yaw_rad)) < cfg.approach_heading_rad
-            self._approaching = (abs(robot[1]) < lane and robot[0] < -lane and aligned) or \
-                float(np.hypot(*robot)) < cfg.tolerance_m
+            self._approaching = (abs(robot[1]) < lane and robot[0] < -lane and aligned) or float(
+                np.hypot(*robot)
+            ) < cfg.tolerance_m
         if self._approaching:
             return None
         stage = np.array([-cfg.ball_clearance_m, 0.0])
@@ -212,9 +219,11 @@ class GoToPose(Agent):
         fx, fy, dh = self._smoothed_errors(obs)
         # Next to the ball every extra correction risks touching it: settle for a little less.
         loose = 1.0
-        near_ball = cfg.avoid_ball and float(np.hypot(*(obs.ball_pos_m[:2]
-                                                        - obs.torso_pos_m[:2]))) \
+        near_ball = (
+            cfg.avoid_ball
+            and float(np.hypot(*(obs.ball_pos_m[:2] - obs.torso_pos_m[:2])))
             < cfg.ball_slow_radius_m
+        )
         if near_ball:
             loose = cfg.near_ball_tolerance_scale
         elif self.engine.state != "standing":
@@ -235,8 +244,10 @@ class GoToPose(Agent):
                 else:
                     self._arrived = True  # best effort; errors() tells how close
             return
-        if (dist < cfg.stop_fraction * cfg.tolerance_m
-                and abs(dh) < cfg.stop_fraction * cfg.tolerance_rad):
+        if (
+            dist < cfg.stop_fraction * cfg.tolerance_m
+            and abs(dh) < cfg.stop_fraction * cfg.tolerance_rad
+        ):
             self.engine.stop()
             self._stopping = True
             return
@@ -255,12 +266,19 @@ class GoToPose(Agent):
             # Near: face the final heading and move sideways / forward onto the point.
             # Gentler near the target: the torso's yaw swings with every step, and a fast
             # heading loop on top of the walk's own heading hold rings.
-            yaw_rate = float(np.clip(cfg.near_heading_gain_per_s * dh,
-                                     -cfg.near_max_yaw_rate_rad_s, cfg.near_max_yaw_rate_rad_s))
+            yaw_rate = float(
+                np.clip(
+                    cfg.near_heading_gain_per_s * dh,
+                    -cfg.near_max_yaw_rate_rad_s,
+                    cfg.near_max_yaw_rate_rad_s,
+                )
+            )
             if self.engine.state == "walking" and way is None and dist < cfg.integral_radius_m:
-                self._integral = np.clip(self._integral + cfg.integral_gain_per_s2 * CYCLE_S
-                                         * np.array([fx, fy]), -cfg.max_integral_m_s,
-                                         cfg.max_integral_m_s)
+                self._integral = np.clip(
+                    self._integral + cfg.integral_gain_per_s2 * CYCLE_S * np.array([fx, fy]),
+                    -cfg.max_integral_m_s,
+                    cfg.max_integral_m_s,
+                )
             vx = cfg.position_gain_per_s * fx + self._integral[0]
             vy = cfg.position_gain_per_s * fy + self._integral[1]
             low = cfg.min_speed_m_s if way is None else 2 * cfg.min_speed_m_s
@@ -281,8 +299,9 @@ class GoToPose(Agent):
             if near < cfg.ball_slow_radius_m:
                 scale = min(1.0, cfg.ball_approach_speed_m_s / max(math.hypot(vx, vy), 1e-9))
                 vx, vy = vx * scale, vy * scale
-        self.engine.set_velocity(vx, vy, float(np.clip(yaw_rate, -cfg.max_yaw_rate_rad_s,
-                                                       cfg.max_yaw_rate_rad_s)))
+        self.engine.set_velocity(
+            vx, vy, float(np.clip(yaw_rate, -cfg.max_yaw_rate_rad_s, cfg.max_yaw_rate_rad_s))
+        )
 
 
 def _segment_distance(point: np.ndarray, a: np.ndarray, b: np.ndarray) -> float:
