@@ -5,9 +5,10 @@ Episode functions take their world from ``open_world(kind, robot)`` instead of b
 * ``mujoco``: our MuJoCo world (``MujocoWorld``), any robot (the NAO on the study's field,
   league robots on the league's field). ``nao`` is accepted as another name for it.
 * ``league``: a league world (``LeagueWorld``) on a server hosted for this episode alone: sync
-  mode, no real time, no render, free ports. The server stops when the episode ends, so K
-  workers run at most K servers, and a worker that is stopped takes its server with it (the
-  server dies with the process that started it).
+  mode, no real time, no render, free ports. The server is told to stop when the episode ends
+  (and reaped when the next one starts, or when the process exits), so K workers run at most
+  K servers, and a worker that is stopped takes its server with it (the server dies with the
+  process that started it).
 
 Why a fresh server per episode rather than one per worker: a league server keeps what earlier
 episodes did (MuJoCo's solver warm start, the referee's state, its clock), so an episode
@@ -19,6 +20,7 @@ and joining a server costs about 1-2 s of wall time per episode.
 
 from __future__ import annotations
 
+import atexit
 import contextlib
 from collections.abc import Iterator
 
@@ -98,5 +100,26 @@ def open_world(
     from mimic.league.server import ServerConfig
     from mimic.league.world import LeagueWorld
 
-    with LeagueWorld(robot, server_config=ServerConfig(command=server_command)) as world:
+    _reap()  # the previous episode's server has stopped by now
+    world = LeagueWorld(robot, server_config=ServerConfig(command=server_command))
+    try:
         yield world
+    finally:
+        server, world.server = world.server, None
+        world.close()  # our player and monitor leave; the server stops without us waiting
+        if server is not None:
+            server.request_stop()
+            _STOPPING.append(server)
+
+
+#: Servers of finished episodes, asked to stop but not waited for: their shutdown (about
+#: 0.4 s) overlaps the next episode's start. Reaped there, and when this process exits.
+_STOPPING: list = []
+
+
+def _reap() -> None:
+    while _STOPPING:
+        _STOPPING.pop().stop()
+
+
+atexit.register(_reap)
