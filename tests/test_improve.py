@@ -237,11 +237,25 @@ def test_kick_objective_scores_distance_times_success_minus_falls():
     ],
 )
 def test_bad_input_is_one_clear_line(args, message, tmp_path, monkeypatch):
+    if "--ray-address" in args:  # without the ray extra the line says how to install it
+        pytest.importorskip("ray")
     monkeypatch.chdir(tmp_path)
     result = CliRunner().invoke(app, ["improve", *args])
     assert result.exit_code == 2, result.output
     assert message in result.output
     assert "Traceback" not in result.output
+
+
+def test_ray_without_the_extra_says_how_to_install_it(tmp_path, monkeypatch):
+    import importlib.util
+
+    if importlib.util.find_spec("ray") is not None:
+        pytest.skip("ray is installed here")
+    monkeypatch.chdir(tmp_path)
+    args = ["kick_right", "--objective", "kick", "--budget", "4", "-o", "x.txt", "--ray"]
+    result = CliRunner().invoke(app, ["improve", *args])
+    assert result.exit_code == 2 and "Traceback" not in result.output
+    assert ".[ray]" in result.output
 
 
 def test_corrupt_checkpoint_is_one_clear_line(tmp_path, monkeypatch):

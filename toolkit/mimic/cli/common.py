@@ -11,6 +11,7 @@ from typing import TypeVar
 
 import typer
 from rich.console import Console
+from rich.markup import escape
 
 from mimic.errors import MimicError
 
@@ -47,13 +48,18 @@ def save_path(save: Path | None, save_old: Path | None) -> Path | None:
 
 def fail(message: str, code: int = 2) -> None:
     """Print ``error: message`` on stderr and exit with ``code``."""
-    err_console.print(f"[bold red]error:[/] {message}", highlight=False, soft_wrap=True)
+    # The message is text, not markup: "pip install -e '.[ray]'" must keep its brackets.
+    err_console.print(
+        f"[bold red]error:[/] {escape(str(message))}", highlight=False, soft_wrap=True
+    )
     raise typer.Exit(code)
 
 
 def warn(message: str) -> None:
     """Print ``warning: message`` on stderr (the command goes on)."""
-    err_console.print(f"[bold yellow]warning:[/] {message}", highlight=False, soft_wrap=True)
+    err_console.print(
+        f"[bold yellow]warning:[/] {escape(str(message))}", highlight=False, soft_wrap=True
+    )
 
 
 def reports_errors(func: F) -> F:
