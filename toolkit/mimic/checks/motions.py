@@ -1,6 +1,8 @@
 """Seeded physical outcome checks of our keyframe motions: kicks, get-ups, standing.
 
-Each check builds a fresh world, sets up a scene with small random perturbations drawn from
+Each check builds a fresh world for the motion's robot (our MuJoCo world; for a league robot on
+the league's field and ball) or uses the one it is given (``world=``: the league server's
+``LeagueWorld``), sets up a scene with small random perturbations drawn from
 ``np.random.default_rng(seed)``, plays the motion with ``KeyframePlayer`` through the episode
 layer's ``run`` and reports what happened. Tests and benchmarks share these functions, so a rate
 printed by a benchmark is the rate the tests assert on.
@@ -19,7 +21,7 @@ from mimic.episode import PoseNoise, Scene, UprightLog, run
 from mimic.errors import MotionFileError
 from mimic.motion.files import load_motion
 from mimic.motion.keyframe import Movement
-from mimic.world.base import CYCLE_S
+from mimic.world.base import CYCLE_S, World
 from mimic.world.mujoco_world import MujocoWorld
 
 __all__ = ["Perturbation", "KickOutcome", "GetupOutcome", "run_kick", "run_getup", "run_stand"]
@@ -96,13 +98,15 @@ def run_kick(
     after_s: float = 2.0,
     max_time_s: float = 12.0,
     rest_speed_m_s: float = 0.01,
+    world: World | None = None,
 ) -> KickOutcome:
     """Stand the robot behind a ball at the motion's ``ball_offset_m``, kick, measure.
 
     The ball starts near ``ball_start_m`` (field frame [m]; far from the goals so it rolls
     freely toward +x); the robot faces +x. After the motion the robot keeps the last keyframe;
     the ball is followed until slower than ``rest_speed_m_s`` or ``max_time_s`` after the
-    motion start [s].
+    motion start [s]. ``world``: where to kick (default: a fresh ``MujocoWorld`` of the
+    movement's robot).
 
     Raises:
         MotionFileError: the movement has no ball offset.
@@ -114,7 +118,7 @@ def run_kick(
         )
     p = perturbation if perturb else NO_PERTURBATION
     off_x, off_y = movement.ball_offset_m
-    world = MujocoWorld(movement.robot)
+    world = world if world is not None else MujocoWorld(movement.robot)
     Scene(
         robot_xy_m=(ball_start_m[0] - off_x, ball_start_m[1] - off_y),
         ball_offset_m=movement.ball_offset_m,
@@ -154,16 +158,18 @@ def run_getup(
     lying_pose_rad: np.ndarray | None = None,
     settle_s: float = 0.5,
     after_s: float = 1.0,
+    world: World | None = None,
 ) -> GetupOutcome:
     """Lay the robot on its ``side`` (``"front"`` or ``"back"``), let it settle, get up.
 
     ``lying_pose_rad``: (N,) joint angles while lying (default: the stand pose), perturbed.
-    Success is ``World.upright()`` at the motion's end + ``after_s`` [s].
+    Success is ``World.upright()`` at the motion's end + ``after_s`` [s]. ``world``: where
+    (default: a fresh ``MujocoWorld`` of the movement's robot).
     """
     if side not in ("front", "back"):
         raise ValueError(f"side must be 'front' or 'back', got {side!r}")
     p = perturbation if perturb else NO_PERTURBATION
-    world = MujocoWorld(movement.robot)
+    world = world if world is not None else MujocoWorld(movement.robot)
     Scene(
         posture=f"lying_{side}",
         noise=p.noise(),
@@ -188,14 +194,17 @@ def run_getup(
     return GetupOutcome(True, k * CYCLE_S)
 
 
-def run_stand(duration_s: float, seed: int | None = None, robot: str = "nao") -> bool:
+def run_stand(
+    duration_s: float, seed: int | None = None, robot: str = "nao", *, world: World | None = None
+) -> bool:
     """Place the robot in its stand pose (perturbed if ``seed`` is given) and play ``stand``
-    held for ``duration_s`` [s]; True if it never fell."""
-    world = MujocoWorld(robot)
+    held for ``duration_s`` [s]; True if it never fell. ``world``: where (default: a fresh
+    ``MujocoWorld`` of ``robot``)."""
+    world = world if world is not None else MujocoWorld(robot)
     noise = (Perturbation() if seed is not None else NO_PERTURBATION).noise()
     Scene(noise=noise, settle_s=0.0).setup(world, np.random.default_rng(seed or 0))
     log = UprightLog()
-    stand = load_motion("stand", robot)
+    stand = load_motion("stand", world.robot.name)
     run(
         world,
         KeyframePlayer(stand, hold_s=duration_s),
