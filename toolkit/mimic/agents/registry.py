@@ -26,13 +26,28 @@ from mimic.agents.base import Agent
 from mimic.errors import MimicError
 from mimic.robot.registry import DEFAULT_ROBOT
 
-__all__ = ["AgentSpec", "agent_spec", "make_agent", "agent_names", "BEHAVIOURS", "BALANCE_SUFFIX"]
+__all__ = [
+    "AgentSpec",
+    "agent_spec",
+    "make_agent",
+    "agent_names",
+    "BEHAVIOURS",
+    "ROBOT_BEHAVIOURS",
+    "BALANCE_SUFFIX",
+]
 
 #: Behaviour name -> "module:factory" (a callable with no arguments returning an Agent).
 BEHAVIOURS: dict[str, str] = {
     "walk": "mimic.agents.walk:make_walk_agent",
     "other-team-walk": "mimic.agents.other_team:make_walk",
     "other-team-kick": "mimic.agents.other_team:make_kick",
+}
+#: Robot -> behaviours that robot plays with a controller of its own (the T1's other team).
+ROBOT_BEHAVIOURS: dict[str, dict[str, str]] = {
+    "t1": {
+        "other-team-walk": "mimic.agents.other_team_t1:make_walk",
+        "other-team-kick": "mimic.agents.other_team_t1:make_kick",
+    },
 }
 #: Appended to a model path (``kick.mimic+balance``): play that model inside the balance layer.
 BALANCE_SUFFIX = "+balance"
@@ -100,7 +115,8 @@ class AgentSpec:
             from mimic.agents.params_file import build_engine, load_params
 
             return build_engine(*load_params(self.ref))
-        return _load(BEHAVIOURS[self.ref], f"agent {self.ref!r}")()
+        target = ROBOT_BEHAVIOURS.get(self.robot, {}).get(self.ref, BEHAVIOURS[self.ref])
+        return _load(target, f"agent {self.ref!r}")()
 
     def check(self, robot: str | None = None) -> None:
         """Everything that can be checked before a run: the model file reads, and the

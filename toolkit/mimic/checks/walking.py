@@ -53,6 +53,16 @@ class NoisyCommands(Agent):
         return JointCommand.speeds(speeds + self.rng.normal(0.0, self.noise, speeds.shape))
 
 
+class _LastCommand(Observer):
+    """The last command an agent sent."""
+
+    def __init__(self) -> None:
+        self.command: JointCommand | None = None
+
+    def before_step(self, world, obs, agent, command) -> None:
+        self.command = command
+
+
 class _WalkLog(Observer):
     """Joint angles seen, largest sideways drift, and when the walk passed ``start_after_m``."""
 
@@ -109,18 +119,25 @@ def straight_walk(
     speed_noise_rad_s: float = 0.0,
     start_after_m: float = 1.0,
     max_time_s: float = 60.0,
-    world: MujocoWorld | None = None,
+    world: World | None = None,
+    pose_noise_rad: float = 0.0,
 ) -> WalkResult:
     """Place the robot standing on its own goal line facing +x and let the agent walk.
 
     The speed is measured from the moment the torso has advanced ``start_after_m`` [m]
     (past the start-up) until it has covered ``distance_m`` [m]. ``speed_noise_rad_s``
-    adds Gaussian noise [rad/s] to every speed command (a seeded perturbation).
+    adds Gaussian noise [rad/s] to every speed command and ``pose_noise_rad`` to every
+    joint of the start pose [rad] (seeded perturbations).
     """
     w = world or MujocoWorld()
     rng = np.random.default_rng(seed)
     x0 = F.OWN_GOAL_X_M
-    Scene(robot_xy_m=(x0, 0.0), settle_s=0.0, ball_xy_m=(0.0, 0.0)).setup(w, rng)
+    Scene(
+        robot_xy_m=(x0, 0.0),
+        settle_s=0.0,
+        ball_xy_m=(0.0, 0.0),
+        noise=PoseNoise(joint_rad=pose_noise_rad),
+    ).setup(w, rng)
     agent = NoisyCommands(make_agent(), rng, speed_noise_rad_s, w.robot.actuator)
     log = _WalkLog(x0, start_after_m)
     run(
@@ -151,13 +168,15 @@ def kick_from_stand(
     pose_noise_rad: float = 0.0,
     ball_noise_m: float = 0.0,
     speed_noise_rad_s: float = 0.0,
-    world: MujocoWorld | None = None,
+    world: World | None = None,
 ) -> KickResult:
     """Stand the robot at the centre spot, put the ball where the kick wants it, kick.
 
     After the agent reports done, the joints hold their last pose for 2 s and the ball is
-    left to roll to rest. Seeded noise perturbs the start pose [rad], the ball position [m]
-    and the speed commands [rad/s].
+    left to roll to rest: the last joint references the agent sent (PD motors track those;
+    holding the sagged angles instead would let the robot sag again), or the angles reached
+    for an agent that sent speeds. Seeded noise perturbs the start pose [rad], the ball
+    position [m] and the speed commands [rad/s].
     """
     w = world or MujocoWorld()
     rng = np.random.default_rng(seed)
@@ -169,8 +188,10 @@ def kick_from_stand(
     ).setup(w, rng)
     ball0 = w.ball_pos_m()[:2]
     noisy = NoisyCommands(agent, rng, speed_noise_rad_s, w.robot.actuator)
-    run(w, noisy, max_s=10.0)
-    hold = HoldPose(w.joint_angles_rad(), w.robot.name)
+    last = _LastCommand()
+    run(w, noisy, max_s=10.0, observers=(last,))
+    references = None if last.command is None else last.command.reference_rad
+    hold = HoldPose(w.joint_angles_rad() if references is None else references, w.robot.name)
     run(w, hold, max_s=2.0)
     standing = w.upright()
     run(w, hold, max_s=20.0, stop=lambda w: w.ball_speed_m_s() < 0.01)

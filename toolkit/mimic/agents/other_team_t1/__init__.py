@@ -1,0 +1,35 @@
+"""The "other team" on the Booster T1: a model-based walk and a kick, written as another team
+would write them.
+
+The team plans its walk with a linear inverted pendulum (``lipm``), solves its legs with its
+own IK read from the robot description (``ik``, ``body``), feeds the IMU back into foot
+placement and the ankles (``walk``) and kicks along a planned foot path (``kick``); its
+numbers are frozen dataclasses (``params``). It plays as a league team process
+(``python -m mimic.agents.other_team_t1 --server HOST:PORT``) that speaks only the protocol,
+so a recorder sees it only through the monitor stream. Nothing outside this package relies on
+its internals: the agents expose no joint references (``reference_rad`` stays None).
+"""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+from mimic.agents.other_team_t1.params import KickParams, WalkParams
+from mimic.agents.other_team_t1.walk import OtherTeamT1Walk
+
+__all__ = ["make_walk", "make_kick", "OtherTeamT1Walk", "WalkParams", "KickParams"]
+
+
+def make_walk(vx_m_s: float | None = None) -> OtherTeamT1Walk:
+    """The team's T1 walk heading straight ahead at ``vx_m_s`` [m/s] (default: its speed)."""
+    params = WalkParams()
+    if vx_m_s is not None:
+        params = replace(params, speed_m_s=float(vx_m_s))
+    return OtherTeamT1Walk(params)
+
+
+def make_kick():
+    """The team's T1 right-foot kick; its ``ball_offset_m`` says where it wants the ball."""
+    from mimic.agents.other_team_t1.kick import OtherTeamT1Kick
+
+    return OtherTeamT1Kick(KickParams())
