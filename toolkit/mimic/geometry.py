@@ -12,7 +12,7 @@ import math
 
 import numpy as np
 
-__all__ = ["quat_mul", "rotate", "yaw_from_quat", "torso_pitch_roll"]
+__all__ = ["quat_mul", "rotate", "yaw_from_quat", "torso_pitch_roll", "rot_x", "rot_y", "rot_z"]
 
 
 def yaw_from_quat(q_wxyz) -> float:
@@ -61,3 +61,21 @@ def rotate(q: np.ndarray, v: np.ndarray) -> np.ndarray:
     w, u = q[:, :1], q[:, 1:]
     t = 2.0 * _cross(u, v)
     return v + w * t + _cross(u, t)
+
+
+def rot_x(a: float) -> np.ndarray:
+    """3x3 rotation by ``a`` [rad] about x (right-handed: y turns toward z)."""
+    c, s = math.cos(a), math.sin(a)
+    return np.array([[1.0, 0.0, 0.0], [0.0, c, -s], [0.0, s, c]])
+
+
+def rot_y(a: float) -> np.ndarray:
+    """3x3 rotation by ``a`` [rad] about y (right-handed: z turns toward x)."""
+    c, s = math.cos(a), math.sin(a)
+    return np.array([[c, 0.0, s], [0.0, 1.0, 0.0], [-s, 0.0, c]])
+
+
+def rot_z(a: float) -> np.ndarray:
+    """3x3 rotation by ``a`` [rad] about z (right-handed: x turns toward y)."""
+    c, s = math.cos(a), math.sin(a)
+    return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])

@@ -17,27 +17,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from mimic.geometry import rot_x, rot_y, rot_z
 from mimic.robot.description import body_by_name
 
 __all__ = ["LegGeometry", "LEG", "rot_x", "rot_y", "rot_z", "leg_ik", "leg_fk", "SIDES"]
 
 #: The two legs; +1 is the left (y > 0) and -1 the right.
 SIDES = {"left": 1.0, "right": -1.0}
-
-
-def rot_x(a: float) -> np.ndarray:
-    c, s = math.cos(a), math.sin(a)
-    return np.array([[1.0, 0.0, 0.0], [0.0, c, -s], [0.0, s, c]])
-
-
-def rot_y(a: float) -> np.ndarray:
-    c, s = math.cos(a), math.sin(a)
-    return np.array([[c, 0.0, s], [0.0, 1.0, 0.0], [-s, 0.0, c]])
-
-
-def rot_z(a: float) -> np.ndarray:
-    c, s = math.cos(a), math.sin(a)
-    return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
 
 
 @dataclass(frozen=True)

@@ -21,9 +21,10 @@ import math
 import numpy as np
 
 from mimic.agents.base import Agent, JointCommand
-from mimic.agents.other_team.ik import LEG, rot_y, rot_z
+from mimic.agents.other_team.ik import LEG
 from mimic.agents.other_team.motor import LEG_IDX, legs_to_joints, servo_speeds, torso_pitch_roll
 from mimic.agents.other_team.params import WalkParams
+from mimic.geometry import rot_y, rot_z
 from mimic.robot.nao import nao
 from mimic.world.base import CYCLE_S, Observation
 

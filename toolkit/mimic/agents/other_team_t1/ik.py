@@ -20,27 +20,13 @@ from dataclasses import dataclass
 import numpy as np
 
 from mimic.errors import MimicError
+from mimic.geometry import rot_x, rot_y, rot_z
 from mimic.robot.model import RobotDescription
 
 __all__ = ["LegChain", "leg_chains", "rot_x", "rot_y", "rot_z", "rotation_log", "SIDES"]
 
 #: The legs: +1 is the left (y > 0), -1 the right.
 SIDES = {1.0: "left", -1.0: "right"}
-
-
-def rot_x(a: float) -> np.ndarray:
-    c, s = math.cos(a), math.sin(a)
-    return np.array([[1.0, 0.0, 0.0], [0.0, c, -s], [0.0, s, c]])
-
-
-def rot_y(a: float) -> np.ndarray:
-    c, s = math.cos(a), math.sin(a)
-    return np.array([[c, 0.0, s], [0.0, 1.0, 0.0], [-s, 0.0, c]])
-
-
-def rot_z(a: float) -> np.ndarray:
-    c, s = math.cos(a), math.sin(a)
-    return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
 
 
 def _axis_rot(axis: np.ndarray, a: float) -> np.ndarray:

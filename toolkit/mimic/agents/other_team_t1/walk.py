@@ -34,10 +34,9 @@ import numpy as np
 
 from mimic.agents.base import Agent, JointCommand
 from mimic.agents.other_team_t1.body import Body
-from mimic.agents.other_team_t1.ik import rot_y, rot_z
 from mimic.agents.other_team_t1.lipm import advance, pendulum_rate_per_s, sway, swing
 from mimic.agents.other_team_t1.params import WalkParams
-from mimic.geometry import torso_pitch_roll, yaw_from_quat
+from mimic.geometry import rot_y, rot_z, torso_pitch_roll, yaw_from_quat
 from mimic.robot.registry import get_robot
 from mimic.world.base import CYCLE_S, Observation
 
