@@ -9,6 +9,7 @@ import pytest
 
 from mimic.agents.walk import WalkEngine, make_walk_agent
 from mimic.agents.walk.goto import GoToPose, pose_behind_ball, wrap_angle
+from mimic.checks.ball_approach import approach_starts, walk_behind_ball
 from mimic.robot.nao import nao
 from mimic.world.base import World
 from mimic.world.mujoco_world import MujocoWorld
@@ -154,24 +155,13 @@ def test_go_to_pose_arrives(world: World) -> None:
 
 
 def test_go_to_pose_behind_the_ball_leaves_it_in_place(world: World) -> None:
-    """The kick trial's use: start beside and ahead of the ball, end behind it facing the goal
-    with the ball where the kick wants it, without walking into it."""
-    ball, offset = (-3.0, -1.0), (0.160, -0.069)
-    world.reset()
-    world.place_robot(-2.5, -1.0, 0.5, nao().stand_pose())
-    world.place_ball(*ball)
-    goto = GoToPose(WalkEngine())
-    goto.set_target(*pose_behind_ball(ball, (15.0, 0.0), offset))
-    goto.reset(world.observe())
-    for _ in range(int(40 / 0.02)):
-        world.step(goto.act(world.observe()))
-        assert not world.fallen()
-        if goto.arrived:
-            break
-    assert goto.arrived
-    b = world.ball_pos_m()[:2]
-    assert np.hypot(*(b - ball)) < 0.03, "walked into the ball"
-    p, yaw = world.torso_pos_m(), world.torso_yaw_rad()
-    c, s = math.cos(yaw), math.sin(yaw)
-    seen = (c * (b[0] - p[0]) + s * (b[1] - p[1]), -s * (b[0] - p[0]) + c * (b[1] - p[1]))
-    assert np.hypot(seen[0] - offset[0], seen[1] - offset[1]) < 0.05, f"ball at {seen}"
+    """The kick trial's use: start just ahead of the ball facing away, end behind it facing the
+    goal with the ball where the kick wants it, without walking into it. The walk is chaotic
+    (another CPU's last digits change which step lands where), so four nearby starts, of which
+    at most one may miss (``benchmarks/goto_ball.py`` measures the rate)."""
+    results = [
+        walk_behind_ball(world, ball, start)
+        for ball, start in approach_starts(np.random.default_rng(0), near=4, around=0)
+    ]
+    assert not any(r.fell for r in results), results
+    assert sum(r.ok for r in results) >= 3, results

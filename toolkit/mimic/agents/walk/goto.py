@@ -11,9 +11,12 @@ close it got).
 
 Ball avoidance: when the target sits behind the ball (``pose_behind_ball``), the robot first
 walks to a staging point behind the target (going round the ball when it is in the way),
-then straight in along the final heading; within ``ball_slow_radius_m`` of the ball it takes
-short steps only, so a swinging foot rarely reaches the ball (not never: the torso's yaw
-swing at the last correction can still nudge it), and the arrival tolerance is a little
+then straight in along the final heading. Closer to the ball than ``ball_inner_m`` it
+first backs away; when the way to the staging point passes the ball it orbits the ball at
+``ball_clearance_m`` in short chords. Within ``ball_slow_radius_m`` of the ball it takes short
+steps only and steps forward only once lined up sideways and in heading (the sideways and
+turning steps are the ones that reach the ball), so a swinging foot rarely reaches the ball
+(not never: measured in ``benchmarks/goto_ball.py``), and the arrival tolerance is a little
 looser there, since each extra correction risks a touch.
 """
 
@@ -83,6 +86,10 @@ class GoToConfig:
     # Clearance of the torso from the ball while going around it; the staging point is this
     # far behind the target [m].
     ball_clearance_m: float = 0.3
+    # Closer than this to the ball [m], outside the approach lane, the robot first backs away.
+    ball_inner_m: float = 0.22
+    # Going round the ball, each waypoint lies this much farther round it [rad].
+    ball_orbit_step_rad: float = 0.7
     # Half-width of the lane behind the target from which the robot walks straight in [m].
     approach_lane_m: float = 0.1
     # Within this distance of the ball [m] the robot walks at most ``ball_approach_speed``.
@@ -90,6 +97,9 @@ class GoToConfig:
     ball_approach_speed_m_s: float = 0.12
     # The robot enters the approach lane only facing the final heading this closely [rad].
     approach_heading_rad: float = math.radians(15)
+    # Next to the ball, step forward only once lined up sideways and in heading (within
+    # twice the tolerance; full speed within one).
+    ball_line_up_first: bool = True
     # Arrival tolerances are scaled by this next to the ball.
     near_ball_tolerance_scale: float = 1.4
     # The integral term only works this close to the target [m] (no wind-up on the way in).
@@ -201,10 +211,22 @@ class GoToPose(Agent):
             return None
         stage = np.array([-cfg.ball_clearance_m, 0.0])
         way = stage
-        if _segment_distance(ball, robot, stage) < 0.7 * cfg.ball_clearance_m:
-            # Go round the ball on the robot's side of it first.
-            side = 1.0 if robot[1] >= ball[1] else -1.0
-            way = ball + np.array([-0.1, side * cfg.ball_clearance_m])
+        away = robot - ball
+        reach = float(np.hypot(*away))
+        if reach < cfg.ball_inner_m:
+            # Too close to the ball anywhere but the lane: back straight away from it first.
+            way = ball + away / max(reach, 1e-9) * (cfg.ball_clearance_m + 0.05)
+        elif _segment_distance(ball, robot, stage) < cfg.ball_clearance_m:
+            # The way to the staging point passes the ball: orbit it at the clearance, one
+            # short chord at a time, on the side that reaches the staging point sooner.
+            here = math.atan2(away[1], away[0])
+            there = math.atan2(stage[1] - ball[1], stage[0] - ball[0])
+            turn = wrap_angle(there - here)
+            if abs(abs(turn) - math.pi) < 0.3:  # straight opposite: pass on the robot's side
+                turn = math.copysign(abs(turn), away[1] if away[1] else 1.0)
+            angle = here + math.copysign(min(abs(turn), cfg.ball_orbit_step_rad), turn)
+            radius = max(cfg.ball_clearance_m, min(reach, 1.5 * cfg.ball_clearance_m))
+            way = ball + radius * np.array([math.cos(angle), math.sin(angle)])
         # Back to the field frame, then into the robot frame.
         wx, wy = c * way[0] - s * way[1] + x, s * way[0] + c * way[1] + y
         yaw = obs.torso_yaw_rad
@@ -299,6 +321,11 @@ class GoToPose(Agent):
             if near < cfg.ball_slow_radius_m:
                 scale = min(1.0, cfg.ball_approach_speed_m_s / max(math.hypot(vx, vy), 1e-9))
                 vx, vy = vx * scale, vy * scale
+                if cfg.ball_line_up_first and vx > 0.0:
+                    # Line up first, then step in: sideways and turning steps next to the
+                    # ball are the ones that reach it, so the forward part waits for them.
+                    off = max(abs(fy) / cfg.tolerance_m, abs(dh) / cfg.tolerance_rad)
+                    vx *= float(np.clip(2.0 - off, 0.0, 1.0))
         self.engine.set_velocity(
             vx, vy, float(np.clip(yaw_rate, -cfg.max_yaw_rate_rad_s, cfg.max_yaw_rate_rad_s))
         )

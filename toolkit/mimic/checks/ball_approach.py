@@ -1,0 +1,102 @@
+"""Physical check of the kick trial's walk to the ball: go-to-pose behind the ball, in our world.
+
+Used by ``tests/test_walk.py`` and ``benchmarks/goto_ball.py``. A walk is chaotic: a change in
+the last digit of the arithmetic (another CPU, another libm) changes which step lands where, so
+the check runs from several starts and reports each.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from mimic.agents.walk.engine import WalkEngine
+from mimic.agents.walk.goto import GoToPose, pose_behind_ball
+from mimic.world.base import CYCLE_S, World
+
+__all__ = ["BALL_OFFSET_M", "ApproachResult", "approach_starts", "walk_behind_ball"]
+
+#: A kick's ball offset (forward, left) in the robot frame [m]: our ``kick_right``'s.
+BALL_OFFSET_M = (0.160, -0.069)
+#: Where the robot should face from the ball: the opponent goal's centre (field frame) [m].
+GOAL_XY_M = (15.0, 0.0)
+#: The ball counts as left in place below this displacement [m].
+BALL_MOVED_LIMIT_M = 0.03
+#: Lined up: the ball within this distance of ``BALL_OFFSET_M`` in the robot frame [m].
+OFFSET_ERROR_LIMIT_M = 0.05
+
+
+@dataclass(frozen=True)
+class ApproachResult:
+    """One walk behind the ball."""
+
+    arrived: bool
+    fell: bool
+    # How far the ball moved [m] and how far it lies from the wanted offset (robot frame) [m].
+    ball_moved_m: float
+    offset_error_m: float
+    time_s: float
+
+    @property
+    def ok(self) -> bool:
+        """Arrived standing, the ball left in place and where the kick wants it."""
+        return (
+            self.arrived
+            and not self.fell
+            and self.ball_moved_m < BALL_MOVED_LIMIT_M
+            and self.offset_error_m < OFFSET_ERROR_LIMIT_M
+        )
+
+
+def approach_starts(
+    rng: np.random.Generator, near: int, around: int
+) -> list[tuple[tuple[float, float], tuple[float, float, float]]]:
+    """(ball xy [m], robot start (x [m], y [m], yaw [rad])) pairs, field frame.
+
+    ``near``: 0.5 m ahead of a ball at (-3, -1), facing away from the goal (the walk turns round
+    and passes the ball), moved by Gaussian noise of 2 cm and 0.05 rad. ``around``: 0.4 to 1.0 m
+    from a ball at (2, 1) in any direction, facing anywhere."""
+    out = []
+    for _ in range(near):
+        start = (-2.5 + rng.normal(0, 0.02), -1.0 + rng.normal(0, 0.02), 0.5 + rng.normal(0, 0.05))
+        out.append(((-3.0, -1.0), start))
+    for _ in range(around):
+        a, r = rng.uniform(-math.pi, math.pi), rng.uniform(0.4, 1.0)
+        start = (2.0 + r * math.cos(a), 1.0 + r * math.sin(a), rng.uniform(-math.pi, math.pi))
+        out.append(((2.0, 1.0), start))
+    return out
+
+
+def walk_behind_ball(
+    world: World, ball_xy, start, ball_offset_m=BALL_OFFSET_M, limit_s: float = 40.0
+) -> ApproachResult:
+    """Place the robot at ``start`` and the ball at ``ball_xy``; walk (our walk engine) until
+    standing behind the ball facing the goal with the ball at ``ball_offset_m``."""
+    robot = world.robot
+    world.reset()
+    world.place_robot(*start, robot.stand_pose())
+    world.place_ball(*ball_xy)
+    goto = GoToPose(WalkEngine())
+    goto.set_target(*pose_behind_ball(ball_xy, GOAL_XY_M, ball_offset_m))
+    goto.reset(world.observe())
+    fell = False
+    for _ in range(int(limit_s / CYCLE_S)):
+        world.step(goto.act(world.observe()))
+        if world.fallen():
+            fell = True
+            break
+        if goto.arrived:
+            break
+    b = world.ball_pos_m()[:2]
+    p, yaw = world.torso_pos_m(), world.torso_yaw_rad()
+    c, s = math.cos(yaw), math.sin(yaw)
+    seen = (c * (b[0] - p[0]) + s * (b[1] - p[1]), -s * (b[0] - p[0]) + c * (b[1] - p[1]))
+    return ApproachResult(
+        arrived=goto.arrived,
+        fell=fell,
+        ball_moved_m=float(np.hypot(*(b - np.asarray(ball_xy)))),
+        offset_error_m=math.hypot(seen[0] - ball_offset_m[0], seen[1] - ball_offset_m[1]),
+        time_s=world.time_s,
+    )
