@@ -21,6 +21,7 @@ import numpy as np
 
 from mimic.agents.walk import WalkEngine, make_walk_agent
 from mimic.agents.walk.goto import GoToPose, wrap_angle
+from mimic.checks.ball_approach import go_to_pose
 from mimic.robot.nao import nao
 from mimic.world.base import CYCLE_S, World
 from mimic.world.field import FIELD_LENGTH_M
@@ -123,16 +124,7 @@ def go_to(world: World, start, target, timeout_s: float = 40.0) -> dict:
     world.place_robot(start[0], start[1], math.radians(start[2]), nao().stand_pose())
     goal = (target[0], target[1], math.radians(target[2]))
     goto = GoToPose(WalkEngine())
-    goto.set_target(*goal)
-    goto.reset(world.observe())
-    fell = False
-    for _ in range(int(timeout_s / CYCLE_S)):
-        world.step(goto.act(world.observe()))
-        if world.fallen():
-            fell = True
-            break
-        if goto.arrived:
-            break
+    fell = go_to_pose(world, goto, goal, timeout_s)
     p = world.torso_pos_m()
     return dict(
         target=target,

@@ -1,8 +1,8 @@
 """Physical check of the kick trial's walk to the ball: go-to-pose behind the ball, in our world.
 
-Used by ``tests/test_walk.py`` and ``benchmarks/goto_ball.py``. A walk is chaotic: a change in
-the last digit of the arithmetic (another CPU, another libm) changes which step lands where, so
-the check runs from several starts and reports each.
+Used by ``tests/test_walk.py``, ``benchmarks/goto_ball.py`` and ``benchmarks/walk_speed.py``.
+A walk is chaotic: a change in the last digit of the arithmetic (another CPU, another libm)
+changes which step lands where, so the check runs from several starts and reports each.
 """
 
 from __future__ import annotations
@@ -16,7 +16,7 @@ from mimic.agents.walk.engine import WalkEngine
 from mimic.agents.walk.goto import GoToPose, pose_behind_ball
 from mimic.world.base import CYCLE_S, World
 
-__all__ = ["BALL_OFFSET_M", "ApproachResult", "approach_starts", "walk_behind_ball"]
+__all__ = ["BALL_OFFSET_M", "ApproachResult", "approach_starts", "go_to_pose", "walk_behind_ball"]
 
 #: A kick's ball offset (forward, left) in the robot frame [m]: our ``kick_right``'s.
 BALL_OFFSET_M = (0.160, -0.069)
@@ -69,6 +69,20 @@ def approach_starts(
     return out
 
 
+def go_to_pose(world: World, goto: GoToPose, target, limit_s: float = 40.0) -> bool:
+    """Walk ``goto`` to ``target`` (x [m], y [m], heading [rad], field frame) until it has
+    arrived, fallen or ``limit_s`` [s] passed; returns whether the robot fell."""
+    goto.set_target(*target)
+    goto.reset(world.observe())
+    for _ in range(int(limit_s / CYCLE_S)):
+        world.step(goto.act(world.observe()))
+        if world.fallen():
+            return True
+        if goto.arrived:
+            return False
+    return False
+
+
 def walk_behind_ball(
     world: World, ball_xy, start, ball_offset_m=BALL_OFFSET_M, limit_s: float = 40.0
 ) -> ApproachResult:
@@ -79,16 +93,7 @@ def walk_behind_ball(
     world.place_robot(*start, robot.stand_pose())
     world.place_ball(*ball_xy)
     goto = GoToPose(WalkEngine())
-    goto.set_target(*pose_behind_ball(ball_xy, GOAL_XY_M, ball_offset_m))
-    goto.reset(world.observe())
-    fell = False
-    for _ in range(int(limit_s / CYCLE_S)):
-        world.step(goto.act(world.observe()))
-        if world.fallen():
-            fell = True
-            break
-        if goto.arrived:
-            break
+    fell = go_to_pose(world, goto, pose_behind_ball(ball_xy, GOAL_XY_M, ball_offset_m), limit_s)
     b = world.ball_pos_m()[:2]
     p, yaw = world.torso_pos_m(), world.torso_yaw_rad()
     c, s = math.cos(yaw), math.sin(yaw)
