@@ -24,16 +24,20 @@ from mimic.learn.model import MotionModel
 from mimic.learn.model_file import load_model, save_model
 from mimic.learn.network import Layout, init_params
 from mimic.motion.files import load_motion, parse_motion
+from mimic.robot.nao import nao
 from mimic.trials.kick import KickTrialConfig
 from mimic.trials.parallel import derive_seed
 from mimic.trials.walk import WalkTrialConfig
+
+#: The NAO's joint count (the tiny model's outputs: these angles and the ended flag).
+N = nao().num_joints
 
 #: 3 s walks: a search of 8 evaluations plays in about a second in one process.
 TINY_WALK = WalkObjective(episodes=1, trial_config=WalkTrialConfig(timeout_s=3.0))
 
 
 def _tiny_model(kick: bool = True) -> MotionModel:
-    layout = Layout(in_dim=1, out_dim=23, hidden=(8,))
+    layout = Layout(in_dim=1, out_dim=N + 1, hidden=(8,))
     rng = np.random.default_rng(0)
     meta = {"motion": "tiny", "ball_offset_m": [0.16, -0.07]} if kick else {"motion": "tiny"}
     return MotionModel(
@@ -42,8 +46,8 @@ def _tiny_model(kick: bool = True) -> MotionModel:
         input_offset_s=0.3,
         input_scale_per_s=2.0,
         duration_s=1.5,
-        output_mean=rng.normal(0, 0.2, 23),
-        output_std=rng.uniform(0.1, 0.3, 23),
+        output_mean=rng.normal(0, 0.2, N + 1),
+        output_std=rng.uniform(0.1, 0.3, N + 1),
         metadata=meta,
     )
 
@@ -51,13 +55,13 @@ def _tiny_model(kick: bool = True) -> MotionModel:
 def test_model_correction_is_exact_and_an_ordinary_model_file(tmp_path):
     model = _tiny_model()
     rng = np.random.default_rng(1)
-    rate, offsets, gains = 1.25, rng.normal(0, 0.05, 22), rng.uniform(0.8, 1.2, 22)
+    rate, offsets, gains = 1.25, rng.normal(0, 0.05, N), rng.uniform(0.8, 1.2, N)
     fixed = corrected_model(model, rate, offsets, gains)
     t = np.linspace(0.0, 1.2, 13)
-    mean = model.output_mean[:22]
-    want = mean + gains * (model.predict(rate * t)[:, :22] - mean) + offsets
-    assert np.allclose(fixed.predict(t)[:, :22], want, atol=1e-12)
-    assert np.allclose(fixed.predict(t)[:, 22], model.predict(rate * t)[:, 22])
+    mean = model.output_mean[:N]
+    want = mean + gains * (model.predict(rate * t)[:, :N] - mean) + offsets
+    assert np.allclose(fixed.predict(t)[:, :N], want, atol=1e-12)
+    assert np.allclose(fixed.predict(t)[:, N], model.predict(rate * t)[:, N])
     assert fixed.duration_s == pytest.approx(1.5 / rate)
     path = save_model(fixed, tmp_path / "fixed.mimic")
     assert np.allclose(load_model(path).predict(t), fixed.predict(t))

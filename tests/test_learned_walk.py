@@ -18,12 +18,15 @@ from mimic.learn.presets import get_preset
 from mimic.learn.train import TrainConfig, train_model, training_dataset
 from mimic.recording.recorder import record
 from mimic.robot.joints import joint_index
+from mimic.robot.nao import nao
 from mimic.trials.walk import WalkTrialConfig, run_walk_episode
 from mimic.world.mujoco_world import MujocoWorld
 
 # The other team's walk reaches its steady speed (full step length) about 4 s after starting.
 WARMUP_S = 4.0
 PERIODS = 8
+
+NAO_JOINTS = nao().num_joints
 
 
 @pytest.fixture(scope="module")
@@ -47,13 +50,13 @@ def test_cyclic_start_blends_from_the_start_pose_into_the_cycle(walk_model):
 
     class Obs:  # only what reset reads
         time_s = 0.0
-        joint_angles_rad = np.linspace(-0.1, 0.1, 22)
+        joint_angles_rad = np.linspace(-0.1, 0.1, NAO_JOINTS)
 
     player.reset(Obs())
-    np.testing.assert_allclose(player.cyclic_reference(0.0)[:22], Obs.joint_angles_rad)
+    np.testing.assert_allclose(player.cyclic_reference(0.0)[:NAO_JOINTS], Obs.joint_angles_rad)
     # Right after the stance blend: the cycle's mean pose, no swing yet.
     np.testing.assert_allclose(
-        player.cyclic_reference(player.stance_s)[:22], player.mean_pose_rad(), atol=1e-9
+        player.cyclic_reference(player.stance_s)[:NAO_JOINTS], player.mean_pose_rad(), atol=1e-9
     )
     # After the ramp: the network's own cycle, phase 0 at the end of the stance blend.
     t = player.stance_s + player.start_ramp_s + 0.1
@@ -78,7 +81,7 @@ def _foot_in_torso(angles: np.ndarray, side: str) -> np.ndarray:
 
 
 def test_foot_yaw_shift_yaws_the_feet_without_pitching_them():
-    bent = np.zeros(22)
+    bent = np.zeros(NAO_JOINTS)
     for side in ("left", "right"):
         bent[joint_index(f"{side}_hip_pitch")] = 0.4
         bent[joint_index(f"{side}_knee_pitch")] = -0.8

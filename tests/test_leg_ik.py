@@ -43,7 +43,7 @@ def test_fk_matches_mujoco_bodies(world: World, side: str) -> None:
         q = _angles_in_limits(side, rng.uniform(0, 1, 6))
         d.qpos[:] = 0.0
         d.qpos[3] = 1.0  # torso at the origin, identity orientation (qpos 0..6 = root)
-        full = np.zeros(22)
+        full = np.zeros(world.robot.num_joints)
         full[leg_joint_indices(side)] = q
         d.qpos[world.qpos_idx] = full
         mujoco.mj_kinematics(m, d)

@@ -27,6 +27,7 @@ from mimic.recording import layout as L
 from mimic.recording.reader import read_joint_table, read_recording
 from mimic.recording.recorder import record
 from mimic.recording.writer import RecordingWriter
+from mimic.robot.nao import nao
 
 REPO = Path(__file__).resolve().parents[1]
 SHIPPED_KICK = REPO / "recordings" / "kick_right.mcap"
@@ -420,7 +421,7 @@ def test_train_on_an_interrupted_recording_warns(tmp_path):
     path = tmp_path / "interrupted.mcap"
     with RecordingWriter(path, L.RecordingInfo(motion="kick_right", agent="test")) as w:
         for k in range(12):
-            w.write_joints(k * 20_000_000, np.full(22, 0.01 * k))
+            w.write_joints(k * 20_000_000, np.full(nao().num_joints, 0.01 * k))
             w.write_ended(k * 20_000_000, False)
         w.finish(interrupted=True)
     res = cli("train", path, "-o", tmp_path / "m.mimic", "--epochs", "50")

@@ -75,7 +75,7 @@ def test_walks_15_m_from_jittered_starts(world: World, seed: int) -> None:
         -15.0 + rng.uniform(-0.01, 0.01),
         rng.uniform(-0.01, 0.01),
         math.radians(rng.uniform(-2, 2)),
-        nao().stand_pose() + rng.normal(0, 0.01, 22),
+        nao().stand_pose() + rng.normal(0, 0.01, nao().num_joints),
     )
     agent = make_walk_agent()
     agent.reset(world.observe())
