@@ -238,6 +238,11 @@ def test_kick_objective_scores_distance_times_success_minus_falls():
             "no joint 'tail'",
         ),
         (["other-team-walk", "--objective", "kick", "--budget", "4", "-o", "x.json"], "not a kick"),
+        (
+            ["kick_right", "--objective", "kick", "--budget", "4", "-o", "x.txt"]
+            + ["--fall-penalty", "-1"],
+            "--fall-penalty must be a finite number >= 0",
+        ),
     ],
 )
 def test_bad_input_is_one_clear_line(args, message, tmp_path, monkeypatch):
@@ -309,6 +314,8 @@ def test_command_writes_the_file_the_trial_accepts_and_a_rerun_run(
             "walk.json",
             "--save",
             "run.rrd",
+            "--fall-penalty",
+            "3",
         ],
     )
     assert result.exit_code == 0, result.output
@@ -316,6 +323,7 @@ def test_command_writes_the_file_the_trial_accepts_and_a_rerun_run(
     assert (tmp_path / "walk.json.ckpt.json").is_file()
     provenance = json.loads((tmp_path / "walk.json").read_text())["provenance"]
     assert provenance["evaluations"] == 4 and provenance["objective"] == "walk"
+    assert provenance["objective_settings"]["fall_penalty_m_s"] == 3.0
     text = subprocess.run(
         [rerun_cli, "rrd", "print", "run.rrd"],
         check=True,

@@ -29,6 +29,8 @@ class Pick(str, Enum):
 
 #: Held-out validation episodes when --validate is not given: ~60 kicks, 40 walks.
 _DEFAULT_VALIDATION = {"kick": 12, "walk": 40}
+#: The objective's setting that ``--fall-penalty`` sets.
+_FALL_PENALTY = {"kick": "fall_penalty_m", "walk": "fall_penalty_m_s"}
 
 
 def _search_bar(budget: int):
@@ -125,6 +127,13 @@ def _improve(
             "scores)."
         ),
     ] = "best",
+    fall_penalty: Annotated[
+        float | None,
+        typer.Option(
+            help="Score lost per fall: kick, metres per fall per kick (default 2); walk, m/s "
+            "per share of runs that fell (default 1)."
+        ),
+    ] = None,
     sigma: Annotated[float, typer.Option(help="Initial CMA-ES step, in parameter scales.")] = 1.0,
     population: Annotated[
         int | None, typer.Option(help="Candidates per generation (default: 4 + 3 ln d).")
@@ -153,6 +162,7 @@ def _improve(
     from mimic.cli.trial import TrialProgress, _print
     from mimic.files import check_outputs
     from mimic.improve import improve
+    from mimic.improve.objectives import make_objective
     from mimic.trials.executors import RAY_LOCAL
 
     if budget <= 0:
@@ -161,6 +171,11 @@ def _improve(
     check_outputs([out, save], force=force)
     if not math.isfinite(sigma) or sigma <= 0:
         raise MimicError(f"--sigma must be a finite number > 0, got {sigma}")
+    settings = {}
+    if fall_penalty is not None:
+        if not math.isfinite(fall_penalty) or fall_penalty < 0:
+            raise MimicError(f"--fall-penalty must be a finite number >= 0, got {fall_penalty}")
+        settings[_FALL_PENALTY[objective.value]] = fall_penalty
     n_validate = _DEFAULT_VALIDATION[objective.value] if validate is None else validate
     bar, on_generation = _search_bar(budget)
     checks = TrialProgress(None, n_validate)  # the held-out episodes, as a trial shows them
@@ -176,7 +191,7 @@ def _improve(
     try:  # improve() checks every input before it starts workers
         run = improve(
             target,
-            objective=objective.value,
+            objective=make_objective(objective.value, episodes, **settings),
             budget=budget,
             out=out,
             seed=seed,

@@ -144,6 +144,7 @@ def improve(
     provenance = dict(
         target=target,
         objective=obj.name,
+        objective_settings={k: v for k, v in obj.describe().items() if k != "trial_config"},
         seed=seed,
         evaluations=result.evaluations,
         episodes_per_evaluation=obj.episodes,
