@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import atexit
 import contextlib
+import threading
 from collections.abc import Iterator
 
 from mimic.errors import MimicError
@@ -101,7 +102,8 @@ def open_world(
     from mimic.league.world import LeagueWorld
 
     _reap()  # the previous episode's server has stopped by now
-    world = LeagueWorld(robot, server_config=ServerConfig(command=server_command))
+    config = ServerConfig(command=server_command, stop_timeout_s=_STOP_GRACE_S)
+    world = LeagueWorld(robot, server_config=config)
     try:
         yield world
     finally:
@@ -109,17 +111,26 @@ def open_world(
         world.close()  # our player and monitor leave; the server stops without us waiting
         if server is not None:
             server.request_stop()
-            _STOPPING.append(server)
+            # Stopped in the background: a server that ignores the SIGINT (rcsssmj 0.2.1
+            # now and then hangs in its own shutdown) is killed after the grace period, not
+            # left running until this process starts another episode or exits.
+            stopper = threading.Thread(target=server.stop, name="league-server-stop", daemon=True)
+            stopper.start()
+            _STOPPING.append(stopper)
 
 
-#: Servers of finished episodes, asked to stop but not waited for: their shutdown (about
-#: 0.4 s) overlaps the next episode's start. Reaped there, and when this process exits.
-_STOPPING: list = []
+#: How long a finished episode's server may take to stop on SIGINT before it is killed [s]
+#: (a clean stop takes about 0.4 s).
+_STOP_GRACE_S = 2.0
+
+#: Threads stopping the servers of finished episodes: their shutdown overlaps the next
+#: episode's start. Joined there, and when this process exits.
+_STOPPING: list[threading.Thread] = []
 
 
 def _reap() -> None:
     while _STOPPING:
-        _STOPPING.pop().stop()
+        _STOPPING.pop().join()
 
 
 atexit.register(_reap)
