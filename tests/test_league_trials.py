@@ -165,8 +165,9 @@ def test_walking_to_the_ball_is_for_the_nao_in_our_world():
 
 
 def _sockets(pid: int) -> tuple[set[int], int]:
-    """(remote ports of the process's TCP sockets, how many sockets of other kinds it has)
-    read from /proc."""
+    """(remote ports of the process's TCP sockets, how many Unix, UDP or raw sockets it has)
+    read from /proc. A socket in no table is a TCP socket not yet connected (created, then
+    connecting): it is neither."""
     inodes = set()
     for fd in Path(f"/proc/{pid}/fd").iterdir():
         try:
@@ -175,15 +176,16 @@ def _sockets(pid: int) -> tuple[set[int], int]:
             continue
         if target.startswith("socket:["):
             inodes.add(target[8:-1])
-    ports, tcp = set(), set()
-    for table in ("tcp", "tcp6"):
-        path = Path(f"/proc/{pid}/net/{table}")
-        for line in path.read_text().splitlines()[1:] if path.exists() else []:
-            fields = line.split()
-            if fields[9] in inodes:
-                tcp.add(fields[9])
-                ports.add(int(fields[2].split(":")[1], 16))
-    return ports, len(inodes - tcp)
+
+    def table(name: str, inode_column: int) -> list[list[str]]:
+        path = Path(f"/proc/{pid}/net/{name}")
+        rows = [line.split() for line in path.read_text().splitlines()[1:]] if path.exists() else []
+        return [r for r in rows if len(r) > inode_column and r[inode_column] in inodes]
+
+    ports = {int(r[2].split(":")[1], 16) for t in ("tcp", "tcp6") for r in table(t, 9)}
+    others = {r[9] for t in ("udp", "udp6", "raw", "raw6") for r in table(t, 9)}
+    others |= {r[6] for r in table("unix", 6)}
+    return ports, len(others)
 
 
 @pytest.mark.skipif(not Path("/proc/self/net/tcp").exists(), reason="reads sockets from /proc")
