@@ -14,7 +14,8 @@ import numpy as np
 
 from mimic.agents.walk.engine import WalkEngine
 from mimic.agents.walk.goto import GoToPose, pose_behind_ball
-from mimic.world.base import CYCLE_S, World
+from mimic.episode import run
+from mimic.world.base import World
 
 __all__ = ["BALL_OFFSET_M", "ApproachResult", "approach_starts", "go_to_pose", "walk_behind_ball"]
 
@@ -73,14 +74,7 @@ def go_to_pose(world: World, goto: GoToPose, target, limit_s: float = 40.0) -> b
     """Walk ``goto`` to ``target`` (x [m], y [m], heading [rad], field frame) until it has
     arrived, fallen or ``limit_s`` [s] passed; returns whether the robot fell."""
     goto.set_target(*target)
-    goto.reset(world.observe())
-    for _ in range(int(limit_s / CYCLE_S)):
-        world.step(goto.act(world.observe()))
-        if world.fallen():
-            return True
-        if goto.arrived:
-            return False
-    return False
+    return run(world, goto, max_s=limit_s, abort_on_fall=True).end == "fell"
 
 
 def walk_behind_ball(
@@ -94,14 +88,12 @@ def walk_behind_ball(
     world.place_ball(*ball_xy)
     goto = GoToPose(WalkEngine())
     fell = go_to_pose(world, goto, pose_behind_ball(ball_xy, GOAL_XY_M, ball_offset_m), limit_s)
-    b = world.ball_pos_m()[:2]
-    p, yaw = world.torso_pos_m(), world.torso_yaw_rad()
-    c, s = math.cos(yaw), math.sin(yaw)
-    seen = (c * (b[0] - p[0]) + s * (b[1] - p[1]), -s * (b[0] - p[0]) + c * (b[1] - p[1]))
     return ApproachResult(
         arrived=goto.arrived,
         fell=fell,
-        ball_moved_m=float(np.hypot(*(b - np.asarray(ball_xy)))),
-        offset_error_m=math.hypot(seen[0] - ball_offset_m[0], seen[1] - ball_offset_m[1]),
+        ball_moved_m=float(np.hypot(*(world.ball_pos_m()[:2] - np.asarray(ball_xy)))),
+        offset_error_m=float(
+            np.hypot(*(world.ball_in_robot_frame_m() - np.asarray(ball_offset_m)))
+        ),
         time_s=world.time_s,
     )

@@ -134,13 +134,6 @@ def kick_scene(offset_m, config: KickTrialConfig, goal_x_m: float) -> Scene:
     )
 
 
-def _ball_in_robot_frame(world: World) -> np.ndarray:
-    """Ball centre relative to the torso, robot frame (x forward, y left) [m]."""
-    d = world.ball_pos_m()[:2] - world.torso_pos_m()[:2]
-    c, s = math.cos(world.torso_yaw_rad()), math.sin(world.torso_yaw_rad())
-    return np.array([c * d[0] + s * d[1], -s * d[0] + c * d[1]])
-
-
 def _walk_to_ball(
     episode: Episode, offset_m, config: KickTrialConfig, limit_s: float, goal_x_m: float
 ) -> str:
@@ -163,7 +156,7 @@ def _walk_to_ball(
             return outcome  # fell or timeout
         if episode.stand_still(max_s=0.4) == "fell":
             return "fell"
-        error = _ball_in_robot_frame(world) - np.asarray(offset_m)
+        error = world.ball_in_robot_frame_m() - np.asarray(offset_m)
         if (
             abs(error[0]) <= config.lineup_tolerance_x_m
             and abs(error[1]) <= config.lineup_tolerance_y_m
@@ -265,7 +258,7 @@ def _play_kick_episode(
     while left_s() > 0:
         start_xy = world.ball_pos_m()[:2]
         start_t = world.time_s
-        lineup = _ball_in_robot_frame(world)
+        lineup = world.ball_in_robot_frame_m()
         falls_before = falls.falls
         outcome = episode.run(kick.build(), max_s=min(10.0, left_s()))
         if outcome != "fell":

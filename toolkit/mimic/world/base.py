@@ -162,6 +162,12 @@ class World(ABC):
     def torso_yaw_rad(self) -> float:
         return yaw_from_quat(self.torso_quat_wxyz())
 
+    def ball_in_robot_frame_m(self) -> np.ndarray:
+        """(2,) ball centre relative to the torso, robot frame (x forward, y left) [m]."""
+        d = self.ball_pos_m()[:2] - self.torso_pos_m()[:2]
+        c, s = math.cos(self.torso_yaw_rad()), math.sin(self.torso_yaw_rad())
+        return np.array([c * d[0] + s * d[1], -s * d[0] + c * d[1]])
+
     def torso_up_z(self) -> float:
         """z component of the torso's up axis: 1 upright, 0 lying."""
         w, x, y, _ = self.torso_quat_wxyz()
