@@ -86,6 +86,10 @@ class LeagueWorld(World):
         server_config: how to host the server (used only without ``agent_address``).
     """
 
+    # The server's parallel loop applies an answer to a perception one cycle later than our
+    # world does: a step in a reference shows two cycles after it was sent, not one.
+    command_delay_cycles = 1
+
     def __init__(
         self,
         robot: RobotDescription | str = "t1",

@@ -17,6 +17,7 @@ import numpy as np
 from threadpoolctl import threadpool_limits
 
 from mimic import __version__
+from mimic.errors import MimicError
 from mimic.learn.dataset import Dataset
 from mimic.learn.model import INPUT_PHASE, INPUT_TIME, MotionModel
 from mimic.learn.network import AdamTrainer, Layout, init_params
@@ -254,19 +255,21 @@ def training_dataset(path, topic: str | None = None, target: str | None = None) 
     """Dataset from a recording or study table, with the training target chosen.
 
     ``target``: ``reached`` (learn the recorded values), ``compensated`` (learn the references
-    that reproduce the recorded angles through the tracking, see ``mimic.learn.compensate``) or
-    None: compensated when the data are observed angles (``/joint_states``) of a robot with
-    speed servos (the only tracking compensation is defined for), else reached.
+    that reproduce the recorded angles through the robot's motors: its speed servos, see
+    ``mimic.learn.compensate``, or its PD motors, see ``mimic.learn.pd_compensate``, which
+    needs the torso pose on ``/tf``) or None: compensated when the data are observed angles
+    (``/joint_states``) that can be compensated, else reached.
 
     Raises:
         DatasetError, RecordingError: unreadable input; unknown target kind.
-        MimicError: ``compensated`` asked for a robot without speed servos.
+        MimicError: ``compensated`` asked for a PD-motor robot's recording without a torso
+            pose.
     """
     from mimic.errors import DatasetError
     from mimic.learn.compensate import compensate_references
     from mimic.learn.dataset import dataset_from_file
     from mimic.recording.layout import JOINT_STATES
-    from mimic.robot.actuators import SpeedServos
+    from mimic.robot.actuators import PDMotors, SpeedServos
     from mimic.robot.registry import get_robot
 
     if target not in (None, TARGET_REACHED, TARGET_COMPENSATED):
@@ -274,12 +277,67 @@ def training_dataset(path, topic: str | None = None, target: str | None = None) 
             f"unknown target {target!r}; use {TARGET_REACHED} or {TARGET_COMPENSATED}"
         )
     ds = dataset_from_file(path, topic)
+    robot = get_robot(ds.robot)
+    observed = ds.metadata.get("topic") == JOINT_STATES
+    torso = None
+    if isinstance(robot.actuator, PDMotors) and target != TARGET_REACHED and observed:
+        torso = _torso_track(path, ds, robot)
     if target is None:
-        observed = ds.metadata.get("topic") == JOINT_STATES
-        servos = isinstance(get_robot(ds.robot).actuator, SpeedServos)
-        target = TARGET_COMPENSATED if observed and servos else TARGET_REACHED
+        servos = isinstance(robot.actuator, SpeedServos)
+        target = (
+            TARGET_COMPENSATED if observed and (servos or torso is not None) else TARGET_REACHED
+        )
+    if target == TARGET_COMPENSATED and isinstance(robot.actuator, PDMotors):
+        if torso is None:
+            raise MimicError(
+                f"the {robot.name} has PD motors: compensated targets need its observed angles "
+                f"(/joint_states) and its torso pose on /tf, which {path} lacks; learn its "
+                "reached angles (--target reached)"
+            )
+        return ds.with_angles(_pd_compensated(ds, robot, *torso), target=target)
     if target == TARGET_COMPENSATED:
         return ds.with_angles(
             compensate_references(ds.time_s, ds.angles_rad, ds.robot), target=target
         )
     return replace(ds, metadata={**ds.metadata, "target": target})
+
+
+def _torso_track(path, ds: Dataset, robot) -> tuple[str, np.ndarray, np.ndarray] | None:
+    """(world, torso positions, orientations) at the dataset's samples, or None when the
+    recording has no pose of the robot's root link on ``/tf``."""
+    from mimic.recording import layout as L
+    from mimic.recording.reader import read_recording, read_tf
+
+    rec = read_recording(path)
+    if L.TF not in rec.topics:
+        return None
+    track = read_tf(rec).get(robot.root_link)
+    topic = ds.metadata.get("topic")
+    if track is None or topic not in rec.topics or len(track.times_ns) < 2:
+        return None
+    # Joint samples are timed from the topic's first message (``read_joint_table``).
+    t = (track.times_ns - rec.topics[topic].first_ns) / 1e9
+    pos = np.stack([np.interp(ds.time_s, t, track.pos_m[:, i]) for i in range(3)], axis=1)
+    quat = (
+        track.quat_wxyz
+        * np.where(np.sum(track.quat_wxyz * track.quat_wxyz[:1], axis=1) < 0, -1.0, 1.0)[:, None]
+    )
+    quat = np.stack([np.interp(ds.time_s, t, quat[:, i]) for i in range(4)], axis=1)
+    quat /= np.linalg.norm(quat, axis=1, keepdims=True)
+    world = rec.info.world if rec.info is not None else "nao"
+    return world, pos, quat
+
+
+def _pd_compensated(ds: Dataset, robot, world: str, pos: np.ndarray, quat: np.ndarray):
+    """PD references for the dataset's samples, sent early by the world's command delay."""
+    from mimic.league.world import LeagueWorld
+    from mimic.learn.pd_compensate import pd_references
+    from mimic.world.base import CYCLE_S, World
+
+    refs = pd_references(ds.time_s, ds.angles_rad, pos, quat, robot).references_rad
+    # A reference acts from the cycle after it is sent (the league server: one cycle later
+    # still): learn the one that acts mid-cycle, (delay + 0.5) cycles on.
+    delay = (LeagueWorld if world == "league" else World).command_delay_cycles
+    lead_s = (delay + 0.5) * CYCLE_S
+    t = ds.time_s + lead_s
+    return np.stack([np.interp(t, ds.time_s, refs[:, j]) for j in range(refs.shape[1])], axis=1)

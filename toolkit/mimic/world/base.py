@@ -95,6 +95,9 @@ class World(ABC):
     robot: RobotDescription
     #: The field and ball it plays on.
     field: Field
+    #: Cycles between the cycle a command is sent in and the cycle it starts to act in (0:
+    #: the next physics steps; the league server applies it one 20 ms cycle later).
+    command_delay_cycles: int = 0
 
     # --- placing things -------------------------------------------------------------------
     @abstractmethod

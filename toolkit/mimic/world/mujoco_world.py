@@ -111,6 +111,27 @@ class MujocoWorld(World):
         d.qpos[self._root_q + 2] = 1.0 - lowest + 0.001
         mujoco.mj_forward(self.model, self.data)
 
+    def set_robot_state(
+        self,
+        torso_pos_m: np.ndarray,
+        torso_quat_wxyz: np.ndarray,
+        joint_angles_rad: np.ndarray,
+        torso_vel_m_s: np.ndarray = np.zeros(3),
+        torso_omega_rad_s: np.ndarray = np.zeros(3),
+        joint_speeds_rad_s: np.ndarray | None = None,
+    ) -> None:
+        """Put the robot in a full state: the root link's pose and velocity (linear in the
+        field frame, angular in the link's own frame, as MuJoCo's free joint) and every
+        joint's angle and speed (a recorded instant to continue from)."""
+        d, rq, rv = self.data, self._root_q, self._root_v
+        d.qpos[rq : rq + 3] = torso_pos_m
+        d.qpos[rq + 3 : rq + 7] = np.asarray(torso_quat_wxyz) / np.linalg.norm(torso_quat_wxyz)
+        d.qpos[self.qpos_idx] = self.robot.check_vector(joint_angles_rad, "joint angles")
+        d.qvel[rv : rv + 3] = torso_vel_m_s
+        d.qvel[rv + 3 : rv + 6] = torso_omega_rad_s
+        d.qvel[self.qvel_idx] = 0.0 if joint_speeds_rad_s is None else joint_speeds_rad_s
+        mujoco.mj_forward(self.model, self.data)
+
     def _lowest_robot_point_m(self) -> float:
         m, d = self.model, self.data
         lowest = np.inf
