@@ -83,6 +83,20 @@ def register(app: typer.Typer) -> None:
             str | None,
             typer.Option(help="reached or compensated (default: compensated for /joint_states)."),
         ] = None,
+        start: Annotated[
+            float | None,
+            typer.Option(help="Learn from this time on [s from the recording's first sample]."),
+        ] = None,
+        end: Annotated[
+            float | None, typer.Option(help="Learn up to this time [s, as --start].")
+        ] = None,
+        period: Annotated[
+            str | None,
+            typer.Option(
+                help="Learn one cyclic motion of this period [s], or 'auto' to find it in the "
+                "angles (default: as the recording says)."
+            ),
+        ] = None,
         strict: Annotated[
             bool,
             typer.Option(
@@ -116,7 +130,10 @@ def register(app: typer.Typer) -> None:
             raise MimicError(
                 f"{len(inputs)} inputs: -o must be a folder (one model each), not {out}"
             )
-        datasets = [training_dataset(p, topic, target) for p in inputs]
+        datasets = [
+            training_dataset(p, topic, target, start_s=start, end_s=end, period=period)
+            for p in inputs
+        ]
         for warning in (w for d in datasets for w in input_warnings(d)):
             if strict:
                 raise DatasetError(f"{warning} (--strict refuses such input)")

@@ -23,7 +23,14 @@ from mimic.recording.layout import ENDED_COLUMN, TIME_COLUMN
 from mimic.robot.model import RobotDescription
 from mimic.robot.registry import DEFAULT_ROBOT, get_robot
 
-__all__ = ["Dataset", "dataset_from_frame", "dataset_from_file"]
+__all__ = [
+    "Dataset",
+    "dataset_from_frame",
+    "dataset_from_file",
+    "cut_dataset",
+    "detect_period_s",
+    "as_cyclic",
+]
 
 
 @dataclass(frozen=True)
@@ -239,3 +246,100 @@ def dataset_from_file(
     return dataset_from_frame(
         frame, robot=robot, period_s=period_s if period_s is not None else period, metadata=meta
     )
+
+
+def cut_dataset(ds: Dataset, start_s: float | None = None, end_s: float | None = None) -> Dataset:
+    """The samples from ``start_s`` to ``end_s`` [s of the recording, from its first sample],
+    timed from the cut's first sample (a black-box recording holds more than the motion: the
+    robot put down, standing, the walk's start). A one-shot motion ends at the cut's last
+    sample; a cyclic one keeps its period.
+
+    Raises:
+        DatasetError: bounds that are not numbers, out of order, or keep fewer than 2 samples.
+    """
+    if start_s is None and end_s is None:
+        return ds
+    where = _where(ds.metadata)
+    last = float(ds.time_s[-1])
+    lo = 0.0 if start_s is None else float(start_s)
+    hi = last if end_s is None else float(end_s)
+    if not (math.isfinite(lo) and math.isfinite(hi) and 0 <= lo < hi):
+        raise DatasetError(
+            f"{where}: cut from {lo} s to {hi} s; --start must be >= 0 and before --end"
+        )
+    keep = (ds.time_s >= lo - 1e-9) & (ds.time_s <= hi + 1e-9)
+    if keep.sum() < 2:
+        raise DatasetError(
+            f"{where}: the cut {lo:.2f}-{hi:.2f} s keeps {int(keep.sum())} samples of a "
+            f"{last:.2f} s recording; choose --start/--end inside it"
+        )
+    targets = ds.targets[keep].copy()
+    targets[:, -1] = 0.0
+    if ds.period_s is None:
+        targets[-1, -1] = 1.0
+    t = ds.time_s[keep]
+    cut = {"cut_s": [round(float(t[0]), 4), round(float(t[-1]), 4)]}
+    return replace(ds, time_s=t - t[0], targets=targets, metadata={**ds.metadata, **cut})
+
+
+def detect_period_s(
+    time_s: np.ndarray, angles_rad: np.ndarray, min_s: float = 0.3, max_s: float = 3.0
+) -> float:
+    """The period [s] of a cyclic motion (a walk) from its joint angles: the first lag at
+    which their summed autocorrelation (each joint's mean removed) comes within 10 % of its
+    highest value between ``min_s`` and ``max_s`` (at most half the samples' span), refined
+    by a parabola through the neighbouring lags. A gait's full cycle (two steps) is found
+    before its multiples, and before its half (the legs alternate, so the two-step lag wins
+    on the asymmetric joints).
+
+    Raises:
+        DatasetError: too short for two periods of ``min_s``, or nothing repeats.
+    """
+    t = np.asarray(time_s, dtype=float)
+    q = np.asarray(angles_rad, dtype=float)
+    dt = float(np.median(np.diff(t)))
+    x = q - q.mean(axis=0)
+    n = len(x)
+    lo = max(1, int(math.ceil(min_s / dt)))
+    hi = min(int(max_s / dt), n // 2)
+    if hi <= lo + 1:
+        raise DatasetError(
+            f"cannot find a period in {t[-1] - t[0]:.2f} s; a cyclic motion needs at least "
+            f"{2 * min_s:.1f} s (two cycles)"
+        )
+    energy = float((x * x).sum())
+    acf = np.array([(x[:-lag] * x[lag:]).sum() * n / (n - lag) for lag in range(lo, hi + 1)])
+    acf /= energy if energy > 0 else 1.0
+    # Peaks: local maxima that rise at least 0.2 above a dip before them (a slow drift is
+    # highest at the shortest lag and never dips: it has no period).
+    peaks = [
+        i
+        for i in range(1, len(acf))
+        if acf[i] >= acf[i - 1]
+        and (i == len(acf) - 1 or acf[i] >= acf[i + 1])
+        and acf[i] - acf[:i].min() >= 0.2
+    ]
+    best = max((float(acf[i]) for i in peaks), default=0.0)
+    if best < 0.3:
+        raise DatasetError(
+            "the joint angles do not repeat (no autocorrelation peak above 0.3): not a cyclic "
+            "motion, or cut it to its steady part (--start/--end)"
+        )
+    # The first peak that comes close to the highest.
+    peaks = [i for i in peaks if acf[i] >= 0.9 * best]
+    i = peaks[0]
+    shift = 0.0
+    if 0 < i < len(acf) - 1:
+        a, b, c = acf[i - 1], acf[i], acf[i + 1]
+        denom = a - 2 * b + c
+        shift = 0.5 * (a - c) / denom if denom < 0 else 0.0
+    return (lo + i + shift) * dt
+
+
+def as_cyclic(ds: Dataset, period_s: float) -> Dataset:
+    """The dataset as one cyclic motion of ``period_s`` [s] (the ended flag cleared)."""
+    if not (period_s > 0 and math.isfinite(period_s)):
+        raise DatasetError(f"{_where(ds.metadata)}: period must be > 0 s, got {period_s}")
+    targets = ds.targets.copy()
+    targets[:, -1] = 0.0
+    return replace(ds, targets=targets, period_s=float(period_s))

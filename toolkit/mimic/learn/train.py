@@ -9,15 +9,18 @@ K stacked networks); the network's N + 1 outputs come from the dataset's joints.
 
 from __future__ import annotations
 
+import math
 import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, replace
+from pathlib import Path
 
 import numpy as np
 from threadpoolctl import threadpool_limits
 
 from mimic import __version__
 from mimic.errors import MimicError
+from mimic.geometry import yaw_from_quat
 from mimic.learn.dataset import Dataset
 from mimic.learn.model import INPUT_PHASE, INPUT_TIME, MotionModel
 from mimic.learn.network import AdamTrainer, Layout, init_params
@@ -251,8 +254,21 @@ TARGET_REACHED = "reached"
 TARGET_COMPENSATED = "compensated"
 
 
-def training_dataset(path, topic: str | None = None, target: str | None = None) -> Dataset:
+def training_dataset(
+    path,
+    topic: str | None = None,
+    target: str | None = None,
+    *,
+    start_s: float | None = None,
+    end_s: float | None = None,
+    period: float | str | None = None,
+) -> Dataset:
     """Dataset from a recording or study table, with the training target chosen.
+
+    ``start_s``/``end_s`` cut the recording [s from its first sample] after the targets are
+    made (``cut_dataset``); ``period`` makes the cut one cyclic motion: a period [s], or
+    ``"auto"`` to find it in the angles (``detect_period_s``; a black-box recording of a walk
+    does not say its period).
 
     ``target``: ``reached`` (learn the recorded values), ``compensated`` (learn the references
     that reproduce the recorded angles through the robot's motors: its speed servos, see
@@ -267,7 +283,7 @@ def training_dataset(path, topic: str | None = None, target: str | None = None) 
     """
     from mimic.errors import DatasetError
     from mimic.learn.compensate import compensate_references
-    from mimic.learn.dataset import dataset_from_file
+    from mimic.learn.dataset import as_cyclic, cut_dataset, dataset_from_file, detect_period_s
     from mimic.recording.layout import JOINT_STATES
     from mimic.robot.actuators import PDMotors, SpeedServos
     from mimic.robot.registry import get_robot
@@ -276,7 +292,7 @@ def training_dataset(path, topic: str | None = None, target: str | None = None) 
         raise DatasetError(
             f"unknown target {target!r}; use {TARGET_REACHED} or {TARGET_COMPENSATED}"
         )
-    ds = dataset_from_file(path, topic)
+    ds = observed_ds = dataset_from_file(path, topic)
     robot = get_robot(ds.robot)
     observed = ds.metadata.get("topic") == JOINT_STATES
     torso = None
@@ -294,12 +310,33 @@ def training_dataset(path, topic: str | None = None, target: str | None = None) 
                 f"(/joint_states) and its torso pose on /tf, which {path} lacks; learn its "
                 "reached angles (--target reached)"
             )
-        return ds.with_angles(_pd_compensated(ds, robot, *torso), target=target)
-    if target == TARGET_COMPENSATED:
-        return ds.with_angles(
+        ds = ds.with_angles(_pd_compensated(ds, robot, *torso), target=target)
+    elif target == TARGET_COMPENSATED:
+        ds = ds.with_angles(
             compensate_references(ds.time_s, ds.angles_rad, ds.robot), target=target
         )
-    return replace(ds, metadata={**ds.metadata, "target": target})
+    else:
+        ds = replace(ds, metadata={**ds.metadata, "target": target})
+    ds = cut_dataset(ds, start_s, end_s)
+    if "ball_offset_m" not in ds.metadata and ds.period_s is None and period is None:
+        offset = _ball_offset_m(path, ds, robot)
+        if offset is not None:
+            ds = replace(ds, metadata={**ds.metadata, "ball_offset_m": offset})
+    if period is None:
+        return ds
+    if period == "auto":
+        # The period of what the robot did (its recorded values), not of the targets.
+        seen = cut_dataset(observed_ds, start_s, end_s)
+        period_s = detect_period_s(seen.time_s, seen.angles_rad)
+        ds = replace(ds, metadata={**ds.metadata, "period_detected": True})
+    else:
+        try:
+            period_s = float(period)
+        except ValueError:
+            raise DatasetError(
+                f"--period must be a number of seconds or 'auto', got {period!r}"
+            ) from None
+    return as_cyclic(ds, period_s)
 
 
 def _torso_track(path, ds: Dataset, robot) -> tuple[str, np.ndarray, np.ndarray] | None:
@@ -326,6 +363,32 @@ def _torso_track(path, ds: Dataset, robot) -> tuple[str, np.ndarray, np.ndarray]
     quat /= np.linalg.norm(quat, axis=1, keepdims=True)
     world = rec.info.world if rec.info is not None else "nao"
     return world, pos, quat
+
+
+def _ball_offset_m(path, ds: Dataset, robot) -> list[float] | None:
+    """Where the ball lay in the robot frame (x forward, y left of the torso [m]) at the
+    motion's first sample, when the recording shows the ball and the torso (a black-box kick:
+    the kick wants the ball there), else None."""
+    from mimic.recording import layout as L
+    from mimic.recording.reader import read_recording, read_tf
+
+    if Path(path).suffix.lower() != ".mcap":
+        return None
+    rec = read_recording(path)
+    topic = ds.metadata.get("topic")
+    if L.TF not in rec.topics or topic not in rec.topics:
+        return None
+    tracks = read_tf(rec)
+    ball, torso = tracks.get(L.BALL_FRAME), tracks.get(robot.root_link)
+    if ball is None or torso is None:
+        return None
+    t0_ns = rec.topics[topic].first_ns + round(ds.metadata.get("cut_s", [0.0])[0] * 1e9)
+    b = ball.pos_m[int(np.argmin(np.abs(ball.times_ns - t0_ns)))]
+    k = int(np.argmin(np.abs(torso.times_ns - t0_ns)))
+    yaw = yaw_from_quat(torso.quat_wxyz[k])
+    dx, dy = b[:2] - torso.pos_m[k][:2]
+    c, s = math.cos(yaw), math.sin(yaw)
+    return [round(c * dx + s * dy, 4), round(-s * dx + c * dy, 4)]
 
 
 def _pd_compensated(ds: Dataset, robot, world: str, pos: np.ndarray, quat: np.ndarray):
