@@ -24,11 +24,15 @@ learned walk fell about six times as often). A correction means opposite things 
   turn of each step aims the torso at the start heading, bent back toward the start line in
   proportion to the sideways offset (``torso_pos_m`` is the localisation estimate).
 
-Signs, for a planted foot (simulator conventions, ``mimic.robot.joints``): raising ankle pitch
-leans the shank forward, raising ankle roll leans it left, raising hip pitch bends the torso
-forward over the leg, raising hip roll tilts the torso left over it. A left hip yaw-pitch of q
-yaws the left foot by -q sin 45 deg (right: +q sin 45 deg) and pitches it by q sin 45 deg,
-which a hip pitch change of the same size cancels (left: -yaw, right: +yaw).
+Any robot with two legs: the joints are found by their roles (``left_hip_pitch``,
+``Left_Hip_Pitch``, ...; ``leg_joints``) and every shift is signed by the joint's own axis in
+the robot description, so one layer serves the NAO (pitch axes along -y, a hip yaw-pitch
+joint at 45 degrees) and the league's T1 (pitch axes along +y, a pure hip yaw). Written for
+the NAO: for a planted foot raising its ankle pitch leans the shank forward, raising ankle
+roll leans it left, raising hip pitch bends the torso forward over the leg, raising hip roll
+tilts the torso left over it. A left hip yaw-pitch of q yaws the left foot by -q sin 45 deg
+(right: +q sin 45 deg) and pitches it by q sin 45 deg, which a hip pitch change of the same
+size cancels (left: -yaw, right: +yaw). Gains are per robot (``default_gains``).
 """
 
 from __future__ import annotations
@@ -39,23 +43,27 @@ from dataclasses import dataclass
 import numpy as np
 
 from mimic.agents.base import Agent, JointCommand
+from mimic.errors import MimicError
 from mimic.geometry import yaw_from_quat
-from mimic.robot.joints import joint_index
-from mimic.robot.nao import nao
+from mimic.robot.model import RobotDescription
+from mimic.robot.registry import get_robot
 from mimic.world.base import CYCLE_S, Observation
 
 __all__ = [
     "BalanceGains",
     "HeadingGains",
     "BalancedAgent",
+    "LegJoints",
+    "leg_joints",
+    "default_gains",
     "torso_lean_rad",
     "torso_yaw_rad",
     "foot_yaw_shift_rad",
 ]
 
-_SIN45 = math.sqrt(0.5)
 # Leg sides: +1 left, -1 right.
 _SIDES = {1.0: "left", -1.0: "right"}
+_ROLES = ("hip_pitch", "hip_roll", "ankle_pitch", "ankle_roll", "knee_pitch")
 
 
 @dataclass(frozen=True)
@@ -83,6 +91,10 @@ class BalanceGains:
     support_hysteresis_rad: float = 0.02
     # ... and this many 20 ms cycles later (the tracking lag: weight moves with the joints).
     support_delay_cycles: int = 1
+
+
+# Each robot's tilt gains (a robot not listed starts with the NAO's).
+_DEFAULT_GAINS: dict[str, BalanceGains] = {"nao": BalanceGains()}
 
 
 @dataclass(frozen=True)
@@ -114,21 +126,78 @@ def torso_yaw_rad(obs: Observation) -> float:
     return yaw_from_quat(obs.torso_quat_wxyz)
 
 
-def foot_yaw_shift_rad(yaw_left_rad: float, yaw_right_rad: float) -> np.ndarray:
+@dataclass(frozen=True)
+class LegJoints:
+    """Where the balance layer acts on one robot, read from its description.
+
+    Attributes:
+        index: per side (+1 left, -1 right) the joint index of each role (``_ROLES``, plus
+            ``hip_yaw``: the joint that turns the foot, a hip yaw or the NAO's yaw-pitch).
+        axis: per side and role, the joint axis (in its parent link, the zero pose).
+        knee_bend_sign: +1 when a knee bends with positive angles, -1 when with negative.
+        num_joints: the robot's joint count.
+    """
+
+    index: dict
+    axis: dict
+    knee_bend_sign: float
+    num_joints: int
+
+
+def leg_joints(robot: RobotDescription | str) -> LegJoints:
+    """The robot's leg joints by role (names matched without case: ``left_hip_pitch`` or
+    ``Left_Hip_Pitch``).
+
+    Raises:
+        MimicError: the robot lacks one of the roles (the balance layer needs two legs).
+    """
+    robot = get_robot(robot)
+    by_name = {j.name.lower(): (i, j) for i, j in enumerate(robot.joints)}
+    index, axis = {}, {}
+    for side, name in _SIDES.items():
+        index[side], axis[side] = {}, {}
+        for role in (*_ROLES, "hip_yaw"):
+            found = by_name.get(f"{name}_{role}")
+            if found is None and role == "hip_yaw":
+                found = by_name.get(f"{name}_hip_yaw_pitch")
+            if found is None:
+                raise MimicError(
+                    f"the balance layer needs two legs; the {robot.name} has no {name} {role} joint"
+                )
+            index[side][role], axis[side][role] = found[0], np.asarray(found[1].axis, float)
+    knee = robot.joints[index[1.0]["knee_pitch"]]
+    bend = 1.0 if abs(knee.upper_rad) >= abs(knee.lower_rad) else -1.0
+    return LegJoints(index, axis, bend, robot.num_joints)
+
+
+def foot_yaw_shift_rad(
+    yaw_left_rad: float, yaw_right_rad: float, legs: LegJoints | None = None
+) -> np.ndarray:
     """(N,) reference shifts that yaw each foot relative to the torso by the given angles
-    [rad] (positive: toes turned left) with hip yaw-pitch plus the cancelling hip pitch."""
-    shift = nao().zeros()
-    shift[joint_index("left_hip_yaw_pitch")] = -yaw_left_rad / _SIN45
-    shift[joint_index("left_hip_pitch")] = -yaw_left_rad
-    shift[joint_index("right_hip_yaw_pitch")] = yaw_right_rad / _SIN45
-    shift[joint_index("right_hip_pitch")] = yaw_right_rad
+    [rad] (positive: toes turned left) with the hip yaw joint, plus the hip pitch change that
+    cancels the pitch a tilted yaw axis (the NAO's yaw-pitch at 45 degrees) brings along
+    (default: the NAO's legs)."""
+    legs = legs or leg_joints("nao")
+    shift = np.zeros(legs.num_joints)
+    for side, yaw in ((1.0, yaw_left_rad), (-1.0, yaw_right_rad)):
+        ax = legs.axis[side]["hip_yaw"]
+        q = yaw / ax[2]  # the foot turns by q times the axis's vertical part
+        shift[legs.index[side]["hip_yaw"]] = q
+        if abs(ax[1]) > 1e-9:
+            shift[legs.index[side]["hip_pitch"]] = -q * ax[1] / legs.axis[side]["hip_pitch"][1]
     return shift
+
+
+def default_gains(robot: str) -> BalanceGains:
+    """The tilt gains a robot's balance layer starts with (tuned per robot)."""
+    return _DEFAULT_GAINS.get(robot, BalanceGains())
 
 
 class BalancedAgent(Agent):
     """Wraps an agent; adds IMU tilt feedback and per-step heading control to its references.
 
-    The corrections use the NAO's leg geometry (its joint names and axes): a NAO-only layer.
+    The corrections use the inner agent's robot's legs (``leg_joints``); ``gains=None`` takes
+    that robot's ``default_gains``.
 
     Heading control acts on cyclic agents only (``period_s`` set: a walk); ``heading=None``
     switches it off. ``swing_feedback`` sends part of the tilt correction to the swing leg
@@ -140,26 +209,22 @@ class BalancedAgent(Agent):
     def __init__(
         self,
         inner: Agent,
-        gains: BalanceGains = BalanceGains(),
+        gains: BalanceGains | None = None,
         heading: HeadingGains | None = HeadingGains(),
         swing_feedback: bool | None = None,
     ) -> None:
         super().__init__()
-        self.inner, self.gains = inner, gains
+        self.legs = leg_joints(inner.robot)
+        self.inner = inner
+        self.gains = default_gains(inner.robot) if gains is None else gains
         self.heading = heading if inner.period_s else None
         self.swing_feedback = bool(inner.period_s) if swing_feedback is None else swing_feedback
         self.start_posture = inner.start_posture
         self.ball_offset_m = getattr(inner, "ball_offset_m", None)
         self.name, self.team, self.period_s = inner.name, inner.team, inner.period_s
-        self.robot, self.robot_only = "nao", True
-        self._idx = {
-            side: {
-                part: joint_index(f"{name}_{part}")
-                for part in ("hip_pitch", "hip_roll", "ankle_pitch", "ankle_roll")
-            }
-            for side, name in _SIDES.items()
-        }
-        self._knee = {side: joint_index(f"{name}_knee_pitch") for side, name in _SIDES.items()}
+        self.robot, self.robot_only = inner.robot, inner.robot_only
+        self._idx = self.legs.index
+        self._knee = {side: self.legs.index[side]["knee_pitch"] for side in _SIDES}
         self._reset_state(0.0, (0.0, 0.0))
 
     def _reset_state(self, yaw_rad: float, xy_m: tuple[float, float]) -> None:
@@ -186,8 +251,10 @@ class BalancedAgent(Agent):
     # --- support foot ---------------------------------------------------------------------
     def _update_support(self, reference_rad: np.ndarray) -> bool:
         """Track the support leg from the knee references; True when it changed this cycle."""
-        # Knee angles are negative when bent: the support knee is the larger one.
-        straighter = reference_rad[self._knee[1.0]] - reference_rad[self._knee[-1.0]]
+        # The support knee is the straighter one (the NAO's bend negative, the T1's positive).
+        straighter = self.legs.knee_bend_sign * (
+            reference_rad[self._knee[-1.0]] - reference_rad[self._knee[1.0]]
+        )
         if self._support_ref * straighter < -self.gains.support_hysteresis_rad:
             self._support_ref = -self._support_ref
             self._switch_in = self.gains.support_delay_cycles
@@ -208,16 +275,26 @@ class BalancedAgent(Agent):
         # The gyro's y axis is positive for pitching nose-down, its x axis for rolling right.
         d_pitch = g.pitch * (forward - g.lean_rad + g.pitch_rate_s * obs.gyro_rad_s[1])
         d_roll = g.roll * (left - g.roll_rate_s * obs.gyro_rad_s[0])
-        shift = nao().zeros()
+        shift = np.zeros(self.legs.num_joints)
         sup, swing = self._idx[self.support], self._idx[-self.support]
-        shift[sup["ankle_pitch"]] = -d_pitch
-        shift[sup["ankle_roll"]] = -d_roll
+        ax_sup, ax_swing = self.legs.axis[self.support], self.legs.axis[-self.support]
+
+        # Signed by each joint's own axis (written for the NAO: pitch axes -y, roll axes +x).
+        def pitch(axis_of, role: str, amount: float) -> float:
+            return amount * -axis_of[role][1]
+
+        def roll(axis_of, role: str, amount: float) -> float:
+            return amount * axis_of[role][0]
+
+        shift[sup["ankle_pitch"]] = pitch(ax_sup, "ankle_pitch", -d_pitch)
+        shift[sup["ankle_roll"]] = roll(ax_sup, "ankle_roll", -d_roll)
         if not self.swing_feedback:
             return np.clip(shift, -g.limit_rad, g.limit_rad)
-        shift[swing["hip_pitch"]] = g.hip_share * d_pitch
-        shift[swing["hip_roll"]] = g.hip_share * d_roll
-        shift[swing["ankle_pitch"]] = -(1.0 - g.hip_share) * d_pitch
-        shift[swing["ankle_roll"]] = -(1.0 - g.hip_share) * d_roll
+        h = g.hip_share
+        shift[swing["hip_pitch"]] = pitch(ax_swing, "hip_pitch", h * d_pitch)
+        shift[swing["hip_roll"]] = roll(ax_swing, "hip_roll", h * d_roll)
+        shift[swing["ankle_pitch"]] = pitch(ax_swing, "ankle_pitch", -(1.0 - h) * d_pitch)
+        shift[swing["ankle_roll"]] = roll(ax_swing, "ankle_roll", -(1.0 - h) * d_roll)
         return np.clip(shift, -g.limit_rad, g.limit_rad)
 
     def _step_s(self) -> float:
@@ -252,7 +329,7 @@ class BalancedAgent(Agent):
 
     def heading_correction_rad(self) -> np.ndarray:
         """(N,) reference shifts [rad] of the current foot yaw plan."""
-        return foot_yaw_shift_rad(self._current_yaw(1.0), self._current_yaw(-1.0))
+        return foot_yaw_shift_rad(self._current_yaw(1.0), self._current_yaw(-1.0), self.legs)
 
     def correction_rad(self, obs: Observation, reference_rad: np.ndarray) -> np.ndarray:
         """(N,) reference shifts [rad] for the inner agent's (N,) references this cycle:
