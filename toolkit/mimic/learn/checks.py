@@ -30,6 +30,8 @@ def input_warnings(dataset: Dataset) -> list[str]:
     whose motion never ends: the motion learned may be incomplete (``mimic train --strict``
     refuses such input)."""
     meta = dataset.metadata
+    if meta.get("cut_s") is not None:
+        return []  # the user chose the piece (mimic train --start/--end): nothing is missing
     where = meta.get("source", dataset.name)
     got_s = float(dataset.time_s[-1]) if dataset.n_samples else 0.0
     if meta.get("recording_complete") is False or meta.get("recording_interrupted") is True:
