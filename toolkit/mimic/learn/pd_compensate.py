@@ -27,11 +27,14 @@ The references are returned at the sample times; a world that applies a command 
 (the league server) needs them ``lead_s`` early, which ``pd_references`` leaves to its caller
 (``training_dataset`` shifts league recordings by one cycle).
 
-Measured (``tests/test_pd_compensate.py``; our world, the T1 other team's walk recorded at
-50 Hz): from a recorded mid-walk state, the reached angles replayed as references fall after
-34 cycles with 0.061 rad mean tracking error over the first half second; these references
-walk on for 207-243 cycles (no feedback at all) with 0.008-0.010 rad. From the league's monitor
-stream (25 Hz): 35-43 cycles against 71-157, 0.05 against 0.012-0.024 rad.
+Measured (``tests/test_pd_compensate.py``; the T1 other team's walk; from recorded instants
+the robot is set to the recorded state and continues open loop, no feedback at all): recorded
+in our world at 50 Hz, the reached angles replayed as references fall after 27-58 cycles,
+0.034-0.061 rad mean tracking error over the first half second; these references walk on to
+the recording's end from 4 of 5 instants (the fifth: 253 of 260 cycles), 0.004-0.005 rad.
+Recorded from the league's monitor stream (25 Hz) and continued in our world with the league's
+solver options and one cycle of command delay: 28-66 cycles against 75-127, 0.052-0.061
+against 0.008-0.012 rad.
 
 What it cannot see: in double support, torques that press the legs against each other move
 nothing and leave no trace in the angles (a keyframe motion may hold such a squeeze); contacts
