@@ -117,3 +117,17 @@ def test_bad_input_is_one_line():
         pd_references(t**1.5, q, np.zeros((20, 3)), np.tile([1.0, 0, 0, 0], (20, 1)), "t1")
     with pytest.raises(MimicError, match="at least 7 samples"):
         pd_references(t[:5], q[:5], np.zeros((5, 3)), np.tile([1.0, 0, 0, 0], (5, 1)), "t1")
+
+
+def test_the_view_shows_the_compensated_references_of_a_t1(walk, tmp_path):
+    from mimic.learn.model_file import save_model
+    from mimic.learn.presets import FAST
+    from mimic.learn.train import TrainConfig, train_model
+    from mimic.viz.recording import view_recording
+
+    path = walk[0]
+    ds = training_dataset(path, L.JOINT_STATES)
+    model = tmp_path / "walk.mimic"
+    save_model(train_model(ds, TrainConfig(FAST, epochs=300)), model)
+    logged = view_recording(path, model=model, save=tmp_path / "view.rrd")
+    assert logged["series"] == ["reached", "learned", "compensated", "replayed"]

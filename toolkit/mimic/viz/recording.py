@@ -45,7 +45,8 @@ def log_recording(rec: rr.RecordingStream, path: str | Path | Recording, *, mode
     output on the recording's times), ``compensated`` (the references computed from the
     observed angles, what a compensated model learns) and ``replayed`` (the angles reached when
     the network is played in the simulator, as ``mimic record --model`` would). Compensation
-    is defined for speed servos only: robots with PD motors get no ``compensated`` series.
+    is defined for speed servos, and for PD motors when the recording has the torso pose on
+    ``/tf`` (``mimic.learn.pd_compensate``); other recordings get no ``compensated`` series.
 
     ``path``: a recording file or a ``Recording`` already read; ``model``: a model file or a
     loaded ``MotionModel``. Returns a short description of what was logged (robot, series
@@ -96,6 +97,18 @@ def log_recording(rec: rr.RecordingStream, path: str | Path | Recording, *, mode
                 robot,
             )
             logged["series"].append("compensated")
+        elif JOINT_STATES in recording.topics and recording.path is not None:
+            # PD motors: compensated from the torso pose too, when the recording has it.
+            from mimic.learn.train import TARGET_COMPENSATED, training_dataset
+
+            try:
+                ds = training_dataset(recording.path, JOINT_STATES, TARGET_COMPENSATED)
+            except MimicError:
+                ds = None
+            if ds is not None:
+                frame = _joint_frame(ds.time_s, ds.angles_rad, names)
+                log_joint_table(rec, frame, "compensated", robot)
+                logged["series"].append("compensated")
         log_joint_table(rec, _replayed_table(loaded, recording), "replayed", robot)
         logged["series"].append("replayed")
     tracks = read_tf(recording, in_world=True)
