@@ -238,3 +238,9 @@ def test_ctrl_c_ends_a_team_process_with_its_file_finished(match, tmp_path):
     rec = read_recording(match["played"])
     assert rec.recovery.complete and rec.interrupted
     assert len(read_joint_table(rec, topic=L.JOINT_REFERENCES)) > 25
+
+
+@pytest.mark.parametrize("settle", ["-1", "inf", "nan"])
+def test_a_bad_settle_time_is_one_line(settle):
+    result = runner.invoke(app, ["play", "stand", "--settle", settle])
+    _one_line_error(result, 2, "--settle must be a finite number of seconds >= 0")

@@ -14,6 +14,7 @@ import sys
 import time
 from pathlib import Path
 
+import numpy as np
 import polars as pl
 import pytest
 from _league_helpers import T1, mimic_command
@@ -25,7 +26,7 @@ from mimic.cli.main import app
 from mimic.errors import MimicError
 from mimic.league.server import LeagueServer
 from mimic.motion.files import list_motions
-from mimic.recording.reader import read_joint_table, read_recording
+from mimic.recording.reader import read_joint_table, read_recording, read_tf
 from mimic.trials.executors import PoolExecutor
 from mimic.trials.kick import KickTrialConfig, run_kick_episode
 from mimic.trials.parallel import derive_seed, run_episodes
@@ -205,7 +206,7 @@ def test_the_recorder_sees_the_other_team_only_through_the_monitor_stream(tmp_pa
                 "--player",
                 "1",
                 "--seconds",
-                "1",
+                "4",
                 "-o",
                 str(out),
             ],
@@ -255,3 +256,9 @@ def test_the_recorder_sees_the_other_team_only_through_the_monitor_stream(tmp_pa
     assert rec.info.source == "monitor" and rec.info.team == "Others"
     table = read_joint_table(rec)
     assert len(table) >= 20 and set(T1.joint_names) <= set(table.columns)
+    # The player stood 1 s where the server put it (it arrives with straight joints), then
+    # walked: upright at the end, and on its way (a walk started at once fell within 1.2 s).
+    torso = read_tf(rec)[T1.root_link]
+    assert torso.pos_m[-1, 2] > 0.5
+    if t1_walk() == "other-team-walk":
+        assert np.hypot(*(torso.pos_m[-1, :2] - torso.pos_m[0, :2])) > 0.1

@@ -35,6 +35,13 @@ def register(app: typer.Typer) -> None:
             typer.Option(help="Seconds to play (default: until the agent is done, at most 60)."),
         ] = None,
         robot: Annotated[str, typer.Option(help="The player's robot (mimic robots).")] = "t1",
+        settle: Annotated[
+            float,
+            typer.Option(
+                help="Seconds the robot holds its stand pose before the agent starts (it "
+                "joins with straight joints), >= 0."
+            ),
+        ] = 1.0,
         out: Annotated[
             Path | None,
             typer.Option(
@@ -44,6 +51,9 @@ def register(app: typer.Typer) -> None:
     ) -> None:
         """Play an agent on a league server (RCSSServerMJ) as an ordinary team process."""
         from mimic.league.play import play as play_agent
+
+        if not (settle >= 0 and settle < float("inf")):
+            fail(f"--settle must be a finite number of seconds >= 0, got {settle}")
 
         with Progress(
             TextColumn(f"{team} #{player} playing"),
@@ -66,6 +76,7 @@ def register(app: typer.Typer) -> None:
                 seconds=seconds,
                 out_path=out,
                 progress=progress,
+                settle_s=settle,
             )
         saved = f"; saved {result.duration_s:.2f} s to {result.path}" if result.path else ""
         if result.end == "interrupted":

@@ -21,6 +21,7 @@ import numpy as np
 
 from mimic import __version__
 from mimic.agents.base import Agent
+from mimic.agents.hold import HoldPose
 from mimic.episode import Observer, Scene, run
 from mimic.league.errors import LeagueConnectionError, LeagueError
 from mimic.league.world import LeagueWorld, LeagueWorldConfig
@@ -82,7 +83,7 @@ def play(
     seconds: float | None = None,
     out_path: str | Path | None = None,
     progress: Callable[[float, float | None], None] | None = None,
-    settle_s: float = 0.5,
+    settle_s: float = 1.0,
 ) -> PlayResult:
     """Play ``agent`` (a spec for ``make_agent`` or an Agent) as ``team`` #``player``.
 
@@ -91,7 +92,9 @@ def play(
         agent_address: ``HOST:PORT`` of a server's agent port (None: host one).
         seconds: how long to play [s] (None: until the agent is done, at most ``MAX_PLAY_S``).
         out_path: record to this ``.mcap`` file (None: no recording).
-        settle_s: hosted server: how long the placed robot holds its start pose [s].
+        settle_s: how long the robot holds its stand pose before the agent starts [s]: on a
+            hosted server after mimic places it, on a given server where the server put it
+            (it arrives with straight joints; a walk started at once fell within 1.2 s).
 
     Raises:
         LeagueConnectionError: nothing listens at ``agent_address`` (before anything ran).
@@ -115,6 +118,14 @@ def play(
             Scene(
                 robot_xy_m=HOSTED_START_XY_M, posture=agent.start_posture, settle_s=settle_s
             ).setup(world, np.random.default_rng(0))
+        elif agent.start_posture == "standing" and settle_s > 0:
+            stand = np.asarray(world.robot.stand_pose_rad)
+            run(
+                world,
+                HoldPose(stand, world.robot.name),
+                max_s=settle_s,
+                stop=lambda w: sigint.raised,
+            )
         writer = (
             None
             if out_path is None
