@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 from mimic.errors import MimicError
-from mimic.learn.pd_compensate import local_polynomial, pd_references
+from mimic.learn.pd_compensate import body_rates_rad_s, local_polynomial, pd_references
 from mimic.learn.train import training_dataset
 from mimic.recording import layout as L
 from mimic.recording.reader import read_joint_table, read_recording, read_tf
@@ -49,16 +49,8 @@ def _continue(walk, references: np.ndarray, start: int) -> tuple[int, float]:
     q_s, dq, _ = local_polynomial(q, dt, 3, 3)
     p_s, dp, _ = local_polynomial(pos, dt, 3, 3)
     quat_s, dquat, _ = local_polynomial(quat, dt, 3, 3)
-    w0, x0, y0, z0 = quat_s[start] / np.linalg.norm(quat_s[start])
-    dw, dx, dy, dz = dquat[start]
-    # Body-frame angular velocity: 2 conj(q) dq/dt (vector part).
-    omega = 2 * np.array(
-        [
-            w0 * dx - x0 * dw - y0 * dz + z0 * dy,
-            w0 * dy + x0 * dz - y0 * dw - z0 * dx,
-            w0 * dz - x0 * dy + y0 * dx - z0 * dw,
-        ]
-    )
+    quat_s /= np.linalg.norm(quat_s, axis=1, keepdims=True)
+    omega = body_rates_rad_s(quat_s[start : start + 1], dquat[start : start + 1])[0]
     world = MujocoWorld("t1")
     world.set_robot_state(p_s[start], quat_s[start], q_s[start], dp[start], omega, dq[start])
     errors = []

@@ -50,11 +50,18 @@ import mujoco
 import numpy as np
 
 from mimic.errors import MimicError
+from mimic.geometry import quat_mul
 from mimic.robot.actuators import PDMotors
 from mimic.robot.model import RobotDescription
 from mimic.robot.registry import get_robot
 
-__all__ = ["PdCompensationConfig", "PdCompensation", "local_polynomial", "pd_references"]
+__all__ = [
+    "PdCompensationConfig",
+    "PdCompensation",
+    "body_rates_rad_s",
+    "local_polynomial",
+    "pd_references",
+]
 
 
 @dataclass(frozen=True)
@@ -111,18 +118,11 @@ def local_polynomial(
     return tuple(o.reshape(y.shape) for o in out)
 
 
-def _quat_mul(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    w1, x1, y1, z1 = np.moveaxis(a, -1, 0)
-    w2, x2, y2, z2 = np.moveaxis(b, -1, 0)
-    return np.stack(
-        [
-            w1 * w2 - x1 * x2 - y1 * y2 - z1 * z2,
-            w1 * x2 + x1 * w2 + y1 * z2 - z1 * y2,
-            w1 * y2 - x1 * z2 + y1 * w2 + z1 * x2,
-            w1 * z2 + x1 * y2 - y1 * x2 + z1 * w2,
-        ],
-        axis=-1,
-    )
+def body_rates_rad_s(quat_wxyz: np.ndarray, dquat_per_s: np.ndarray) -> np.ndarray:
+    """(T, 3) angular velocity in the body's own frame [rad/s] (MuJoCo's free joint) from
+    (T, 4) unit quaternions and their time derivatives: w = 2 conj(q) dq/dt."""
+    conj = np.asarray(quat_wxyz, dtype=float) * np.array([1.0, -1.0, -1.0, -1.0])
+    return 2.0 * quat_mul(conj, np.asarray(dquat_per_s, dtype=float))[:, 1:]
 
 
 def pd_motors(robot: RobotDescription) -> PDMotors:
@@ -189,8 +189,7 @@ def pd_references(
     quat = quat * np.where(np.sum(quat * quat[:1], axis=1) < 0, -1.0, 1.0)[:, None]
     quat_s, dquat, _ = local_polynomial(quat, dt, h, order)
     quat_s /= np.linalg.norm(quat_s, axis=1, keepdims=True)
-    # Angular velocity in the body frame (MuJoCo's free joint): w = 2 conj(q) dq/dt.
-    omega = 2.0 * _quat_mul(quat_s * np.array([1.0, -1.0, -1.0, -1.0]), dquat)[:, 1:]
+    omega = body_rates_rad_s(quat_s, dquat)
     _, domega, _ = local_polynomial(omega, dt, h, min(order, 2))
 
     rq, rv = world._root_q, world._root_v
