@@ -81,7 +81,10 @@ def register(app: typer.Typer) -> None:
         ] = None,
         target: Annotated[
             str | None,
-            typer.Option(help="reached or compensated (default: compensated for /joint_states)."),
+            typer.Option(
+                help="reached or compensated (default: compensated for /joint_states; PD "
+                "robots need the torso pose on /tf)."
+            ),
         ] = None,
         start: Annotated[
             float | None,
