@@ -12,7 +12,17 @@ import math
 
 import numpy as np
 
-__all__ = ["quat_mul", "rotate", "yaw_from_quat", "torso_pitch_roll", "rot_x", "rot_y", "rot_z"]
+__all__ = [
+    "quat_mul",
+    "rotate",
+    "yaw_from_quat",
+    "torso_pitch_roll",
+    "in_robot_frame",
+    "one_hemisphere",
+    "rot_x",
+    "rot_y",
+    "rot_z",
+]
 
 
 def yaw_from_quat(q_wxyz) -> float:
@@ -34,6 +44,21 @@ def torso_pitch_roll(q_wxyz) -> tuple[float, float]:
     c, s = math.cos(yaw), math.sin(yaw)
     fwd, left = c * zx + s * zy, -s * zx + c * zy
     return math.atan2(fwd, zz), math.atan2(left, zz)
+
+
+def in_robot_frame(xy_m, robot_xy_m, yaw_rad: float) -> np.ndarray:
+    """(2,) field-frame point ``xy_m`` seen from a robot at ``robot_xy_m`` heading ``yaw_rad``:
+    x forward, y left [m]."""
+    dx, dy = np.asarray(xy_m, dtype=float)[:2] - np.asarray(robot_xy_m, dtype=float)[:2]
+    c, s = math.cos(yaw_rad), math.sin(yaw_rad)
+    return np.array([c * dx + s * dy, -s * dx + c * dy])
+
+
+def one_hemisphere(q_wxyz: np.ndarray) -> np.ndarray:
+    """(N, 4) quaternions with each sign chosen to agree with the first (q and -q are one
+    orientation), so a track of them can be interpolated or fitted component by component."""
+    q = np.asarray(q_wxyz, dtype=float)
+    return q * np.where(np.sum(q * q[:1], axis=1) < 0, -1.0, 1.0)[:, None]
 
 
 def quat_mul(a: np.ndarray, b: np.ndarray) -> np.ndarray:

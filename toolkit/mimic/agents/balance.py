@@ -141,12 +141,16 @@ class LegJoints:
         index: per side (+1 left, -1 right) the joint index of each role (``_ROLES``, plus
             ``hip_yaw``: the joint that turns the foot, a hip yaw or the NAO's yaw-pitch).
         axis: per side and role, the joint axis (in its parent link, the zero pose).
+        sign: per side and tilt role (hip/ankle pitch/roll), +1 where the joint turns the way
+            the NAO's does (pitch axes along -y, roll axes along +x), -1 where it turns the
+            other way (the T1's pitch joints): the layer's shifts are written for the NAO.
         knee_bend_sign: +1 when a knee bends with positive angles, -1 when with negative.
         num_joints: the robot's joint count.
     """
 
     index: dict
     axis: dict
+    sign: dict
     knee_bend_sign: float
     num_joints: int
 
@@ -174,7 +178,14 @@ def leg_joints(robot: RobotDescription | str) -> LegJoints:
             index[side][role], axis[side][role] = found[0], np.asarray(found[1].axis, float)
     knee = robot.joints[index[1.0]["knee_pitch"]]
     bend = 1.0 if abs(knee.upper_rad) >= abs(knee.lower_rad) else -1.0
-    return LegJoints(index, axis, bend, robot.num_joints)
+    sign = {
+        side: {
+            role: float(-axis[side][role][1] if "pitch" in role else axis[side][role][0])
+            for role in ("hip_pitch", "hip_roll", "ankle_pitch", "ankle_roll")
+        }
+        for side in _SIDES
+    }
+    return LegJoints(index, axis, sign, bend, robot.num_joints)
 
 
 def foot_yaw_shift_rad(
@@ -284,24 +295,16 @@ class BalancedAgent(Agent):
         d_roll = g.roll * (left - g.roll_rate_s * obs.gyro_rad_s[0])
         shift = np.zeros(self.legs.num_joints)
         sup, swing = self._idx[self.support], self._idx[-self.support]
-        ax_sup, ax_swing = self.legs.axis[self.support], self.legs.axis[-self.support]
-
-        # Signed by each joint's own axis (written for the NAO: pitch axes -y, roll axes +x).
-        def pitch(axis_of, role: str, amount: float) -> float:
-            return amount * -axis_of[role][1]
-
-        def roll(axis_of, role: str, amount: float) -> float:
-            return amount * axis_of[role][0]
-
-        shift[sup["ankle_pitch"]] = pitch(ax_sup, "ankle_pitch", -d_pitch)
-        shift[sup["ankle_roll"]] = roll(ax_sup, "ankle_roll", -d_roll)
+        s_sup, s_swing = self.legs.sign[self.support], self.legs.sign[-self.support]
+        shift[sup["ankle_pitch"]] = -d_pitch * s_sup["ankle_pitch"]
+        shift[sup["ankle_roll"]] = -d_roll * s_sup["ankle_roll"]
         if not self.swing_feedback:
             return np.clip(shift, -g.limit_rad, g.limit_rad)
         h = g.hip_share
-        shift[swing["hip_pitch"]] = pitch(ax_swing, "hip_pitch", h * d_pitch)
-        shift[swing["hip_roll"]] = roll(ax_swing, "hip_roll", h * d_roll)
-        shift[swing["ankle_pitch"]] = pitch(ax_swing, "ankle_pitch", -(1.0 - h) * d_pitch)
-        shift[swing["ankle_roll"]] = roll(ax_swing, "ankle_roll", -(1.0 - h) * d_roll)
+        shift[swing["hip_pitch"]] = h * d_pitch * s_swing["hip_pitch"]
+        shift[swing["hip_roll"]] = h * d_roll * s_swing["hip_roll"]
+        shift[swing["ankle_pitch"]] = -(1.0 - h) * d_pitch * s_swing["ankle_pitch"]
+        shift[swing["ankle_roll"]] = -(1.0 - h) * d_roll * s_swing["ankle_roll"]
         return np.clip(shift, -g.limit_rad, g.limit_rad)
 
     def _step_s(self) -> float:

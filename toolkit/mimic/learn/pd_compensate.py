@@ -50,7 +50,7 @@ import mujoco
 import numpy as np
 
 from mimic.errors import MimicError
-from mimic.geometry import quat_mul
+from mimic.geometry import one_hemisphere, quat_mul
 from mimic.robot.actuators import PDMotors
 from mimic.robot.model import RobotDescription
 from mimic.robot.registry import get_robot
@@ -185,14 +185,12 @@ def pd_references(
     h, order = config.half_window, config.poly_order
     q_s, dq, ddq = local_polynomial(q, dt, h, order)
     p_s, dp, ddp = local_polynomial(pos, dt, h, order)
-    # One hemisphere for the quaternions (q and -q are one orientation), then fit them.
-    quat = quat * np.where(np.sum(quat * quat[:1], axis=1) < 0, -1.0, 1.0)[:, None]
-    quat_s, dquat, _ = local_polynomial(quat, dt, h, order)
+    quat_s, dquat, _ = local_polynomial(one_hemisphere(quat), dt, h, order)
     quat_s /= np.linalg.norm(quat_s, axis=1, keepdims=True)
     omega = body_rates_rad_s(quat_s, dquat)
     _, domega, _ = local_polynomial(omega, dt, h, min(order, 2))
 
-    rq, rv = world._root_q, world._root_v
+    rq, rv = world.root_qpos_adr, world.root_dof_adr
     jq, jv = np.asarray(world.qpos_idx), np.asarray(world.qvel_idx)
     base = np.arange(rv, rv + 6)
     feet = [m.body(name).id for name in robot.foot_links]

@@ -9,7 +9,6 @@ K stacked networks); the network's N + 1 outputs come from the dataset's joints.
 
 from __future__ import annotations
 
-import math
 import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, replace
@@ -20,7 +19,7 @@ from threadpoolctl import threadpool_limits
 
 from mimic import __version__
 from mimic.errors import MimicError
-from mimic.geometry import yaw_from_quat
+from mimic.geometry import in_robot_frame, one_hemisphere, yaw_from_quat
 from mimic.learn.dataset import Dataset
 from mimic.learn.model import INPUT_PHASE, INPUT_TIME, MotionModel
 from mimic.learn.network import AdamTrainer, Layout, init_params
@@ -295,9 +294,10 @@ def training_dataset(
     ds = observed_ds = dataset_from_file(path, topic)
     robot = get_robot(ds.robot)
     observed = ds.metadata.get("topic") == JOINT_STATES
+    tf = _RecordedTf.read(path, ds)  # the recording's /tf, read once (None: there is none)
     torso = None
     if isinstance(robot.actuator, PDMotors) and target != TARGET_REACHED and observed:
-        torso = _torso_track(path, ds, robot)
+        torso = None if tf is None else tf.torso_at_samples(robot, ds.time_s)
     if target is None:
         servos = isinstance(robot.actuator, SpeedServos)
         target = (
@@ -310,7 +310,7 @@ def training_dataset(
                 f"(/joint_states) and its torso pose on /tf, which {path} lacks; learn its "
                 "reached angles (--target reached)"
             )
-        ds = ds.with_angles(_pd_compensated(ds, robot, *torso), target=target)
+        ds = ds.with_angles(_pd_compensated(ds, robot, tf.world, *torso), target=target)
     elif target == TARGET_COMPENSATED:
         ds = ds.with_angles(
             compensate_references(ds.time_s, ds.angles_rad, ds.robot), target=target
@@ -319,7 +319,7 @@ def training_dataset(
         ds = replace(ds, metadata={**ds.metadata, "target": target})
     ds = cut_dataset(ds, start_s, end_s)
     if "ball_offset_m" not in ds.metadata and ds.period_s is None and period is None:
-        offset = _ball_offset_m(path, ds, robot)
+        offset = None if tf is None else tf.ball_offset_m(robot, ds.metadata.get("cut_s"))
         if offset is not None:
             ds = replace(ds, metadata={**ds.metadata, "ball_offset_m": offset})
     if period is None:
@@ -339,56 +339,61 @@ def training_dataset(
     return as_cyclic(ds, period_s)
 
 
-def _torso_track(path, ds: Dataset, robot) -> tuple[str, np.ndarray, np.ndarray] | None:
-    """(world, torso positions, orientations) at the dataset's samples, or None when the
-    recording has no pose of the robot's root link on ``/tf``."""
-    from mimic.recording import layout as L
-    from mimic.recording.reader import read_recording, read_tf
-
-    rec = read_recording(path)
-    if L.TF not in rec.topics:
-        return None
-    track = read_tf(rec).get(robot.root_link)
-    topic = ds.metadata.get("topic")
-    if track is None or topic not in rec.topics or len(track.times_ns) < 2:
-        return None
-    # Joint samples are timed from the topic's first message (``read_joint_table``).
-    t = (track.times_ns - rec.topics[topic].first_ns) / 1e9
-    pos = np.stack([np.interp(ds.time_s, t, track.pos_m[:, i]) for i in range(3)], axis=1)
-    quat = (
-        track.quat_wxyz
-        * np.where(np.sum(track.quat_wxyz * track.quat_wxyz[:1], axis=1) < 0, -1.0, 1.0)[:, None]
-    )
-    quat = np.stack([np.interp(ds.time_s, t, quat[:, i]) for i in range(4)], axis=1)
-    quat /= np.linalg.norm(quat, axis=1, keepdims=True)
-    world = rec.info.world if rec.info is not None else "nao"
-    return world, pos, quat
+def _interp_columns(t_new: np.ndarray, t: np.ndarray, values: np.ndarray) -> np.ndarray:
+    """(len(t_new), K) linear interpolation of each column of (T, K) ``values`` sampled at
+    ``t``, held at the ends."""
+    return np.stack([np.interp(t_new, t, values[:, i]) for i in range(values.shape[1])], axis=1)
 
 
-def _ball_offset_m(path, ds: Dataset, robot) -> list[float] | None:
-    """Where the ball lay in the robot frame (x forward, y left of the torso [m]) at the
-    motion's first sample, when the recording shows the ball and the torso (a black-box kick:
-    the kick wants the ball there), else None."""
-    from mimic.recording import layout as L
-    from mimic.recording.reader import read_recording, read_tf
+@dataclass(frozen=True)
+class _RecordedTf:
+    """A recording's ``/tf`` tracks in the world frame, timed [s] like its joint samples
+    (from the joint topic's first message, as ``read_joint_table``), and its world."""
 
-    if Path(path).suffix.lower() != ".mcap":
-        return None
-    rec = read_recording(path)
-    topic = ds.metadata.get("topic")
-    if L.TF not in rec.topics or topic not in rec.topics:
-        return None
-    tracks = read_tf(rec)
-    ball, torso = tracks.get(L.BALL_FRAME), tracks.get(robot.root_link)
-    if ball is None or torso is None:
-        return None
-    t0_ns = rec.topics[topic].first_ns + round(ds.metadata.get("cut_s", [0.0])[0] * 1e9)
-    b = ball.pos_m[int(np.argmin(np.abs(ball.times_ns - t0_ns)))]
-    k = int(np.argmin(np.abs(torso.times_ns - t0_ns)))
-    yaw = yaw_from_quat(torso.quat_wxyz[k])
-    dx, dy = b[:2] - torso.pos_m[k][:2]
-    c, s = math.cos(yaw), math.sin(yaw)
-    return [round(c * dx + s * dy, 4), round(-s * dx + c * dy, 4)]
+    world: str
+    tracks: dict
+    first_ns: int
+
+    @classmethod
+    def read(cls, path, ds: Dataset) -> _RecordedTf | None:
+        from mimic.recording import layout as L
+        from mimic.recording.reader import read_recording, read_tf
+
+        if Path(path).suffix.lower() != ".mcap":
+            return None
+        rec = read_recording(path)
+        topic = ds.metadata.get("topic")
+        if L.TF not in rec.topics or topic not in rec.topics:
+            return None
+        world = rec.info.world if rec.info is not None else "nao"
+        return cls(world, read_tf(rec), rec.topics[topic].first_ns)
+
+    def _times_s(self, track) -> np.ndarray:
+        return (track.times_ns - self.first_ns) / 1e9
+
+    def torso_at_samples(self, robot, time_s: np.ndarray) -> tuple[np.ndarray, np.ndarray] | None:
+        """(positions, orientations) of the robot's root link at ``time_s``, or None."""
+        track = self.tracks.get(robot.root_link)
+        if track is None or len(track.times_ns) < 2:
+            return None
+        t = self._times_s(track)
+        quat = _interp_columns(time_s, t, one_hemisphere(track.quat_wxyz))
+        quat /= np.linalg.norm(quat, axis=1, keepdims=True)
+        return _interp_columns(time_s, t, track.pos_m), quat
+
+    def ball_offset_m(self, robot, cut_s: list[float] | None) -> list[float] | None:
+        """Where the ball lay in the robot frame (x forward, y left of the torso [m]) at the
+        motion's first sample (a black-box kick wants the ball there), or None."""
+        from mimic.recording import layout as L
+
+        ball, torso = self.tracks.get(L.BALL_FRAME), self.tracks.get(robot.root_link)
+        if ball is None or torso is None:
+            return None
+        t0 = (cut_s or [0.0])[0]
+        b = ball.pos_m[int(np.argmin(np.abs(self._times_s(ball) - t0)))]
+        k = int(np.argmin(np.abs(self._times_s(torso) - t0)))
+        offset = in_robot_frame(b, torso.pos_m[k], yaw_from_quat(torso.quat_wxyz[k]))
+        return [round(float(v), 4) for v in offset]
 
 
 def _pd_compensated(ds: Dataset, robot, world: str, pos: np.ndarray, quat: np.ndarray):
@@ -401,6 +406,4 @@ def _pd_compensated(ds: Dataset, robot, world: str, pos: np.ndarray, quat: np.nd
     # A reference acts from the cycle after it is sent (the league server: one cycle later
     # still): learn the one that acts mid-cycle, (delay + 0.5) cycles on.
     delay = (LeagueWorld if world == "league" else World).command_delay_cycles
-    lead_s = (delay + 0.5) * CYCLE_S
-    t = ds.time_s + lead_s
-    return np.stack([np.interp(t, ds.time_s, refs[:, j]) for j in range(refs.shape[1])], axis=1)
+    return _interp_columns(ds.time_s + (delay + 0.5) * CYCLE_S, ds.time_s, refs)

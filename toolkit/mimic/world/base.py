@@ -13,7 +13,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from mimic.geometry import yaw_from_quat
+from mimic.geometry import in_robot_frame, yaw_from_quat
 from mimic.robot.actuators import JointCommand
 from mimic.robot.model import RobotDescription
 from mimic.world.field import Field
@@ -167,9 +167,7 @@ class World(ABC):
 
     def ball_in_robot_frame_m(self) -> np.ndarray:
         """(2,) ball centre relative to the torso, robot frame (x forward, y left) [m]."""
-        d = self.ball_pos_m()[:2] - self.torso_pos_m()[:2]
-        c, s = math.cos(self.torso_yaw_rad()), math.sin(self.torso_yaw_rad())
-        return np.array([c * d[0] + s * d[1], -s * d[0] + c * d[1]])
+        return in_robot_frame(self.ball_pos_m(), self.torso_pos_m(), self.torso_yaw_rad())
 
     def torso_up_z(self) -> float:
         """z component of the torso's up axis: 1 upright, 0 lying."""

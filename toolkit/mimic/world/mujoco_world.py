@@ -111,6 +111,16 @@ class MujocoWorld(World):
         d.qpos[self._root_q + 2] = 1.0 - lowest + 0.001
         mujoco.mj_forward(self.model, self.data)
 
+    @property
+    def root_qpos_adr(self) -> int:
+        """Index in ``data.qpos`` of the root link's free joint (position, then quaternion)."""
+        return self._root_q
+
+    @property
+    def root_dof_adr(self) -> int:
+        """Index in ``data.qvel`` of the root link's free joint (linear, then angular)."""
+        return self._root_v
+
     def set_robot_state(
         self,
         torso_pos_m: np.ndarray,
