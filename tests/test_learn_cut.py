@@ -138,3 +138,10 @@ def test_training_cuts_a_black_box_kick_and_finds_where_it_wanted_the_ball(tmp_p
         app, ["train", str(path), "--period", "x", "-o", str(tmp_path / "x.mimic")]
     )
     assert res.exit_code == 2 and "--period must be a number of seconds or 'auto'" in res.output
+
+
+def test_a_ball_lying_aside_is_not_a_kicks_ball(tmp_path):
+    path = tmp_path / "aside.mcap"
+    _black_box_kick(path, offset_xy=(0.1, -3.0))  # where our recorder puts an unused ball
+    ds = training_dataset(path, L.JOINT_STATES, "reached", start_s=0.8, end_s=2.6)
+    assert "ball_offset_m" not in ds.metadata

@@ -345,6 +345,11 @@ def _interp_columns(t_new: np.ndarray, t: np.ndarray, values: np.ndarray) -> np.
     return np.stack([np.interp(t_new, t, values[:, i]) for i in range(values.shape[1])], axis=1)
 
 
+#: Farthest a ball may lie from the torso at a motion's start to count as the ball the motion
+#: kicks [m] (a kick's ball lies 0.2-0.4 m ahead; our recorder puts an unused ball 3 m aside).
+_KICK_REACH_M = 1.0
+
+
 @dataclass(frozen=True)
 class _RecordedTf:
     """A recording's ``/tf`` tracks in the world frame, timed [s] like its joint samples
@@ -393,6 +398,8 @@ class _RecordedTf:
         b = ball.pos_m[int(np.argmin(np.abs(self._times_s(ball) - t0)))]
         k = int(np.argmin(np.abs(self._times_s(torso) - t0)))
         offset = in_robot_frame(b, torso.pos_m[k], yaw_from_quat(torso.quat_wxyz[k]))
+        if np.hypot(*offset) > _KICK_REACH_M:
+            return None  # a ball lying aside (a get-up, a wave) is not where a kick wanted it
         return [round(float(v), 4) for v in offset]
 
 
