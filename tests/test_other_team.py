@@ -93,3 +93,18 @@ def test_kick_sends_ball_3_m_and_robot_stays_up(world):
     r = kick_from_stand(make_kick, seed=0, world=world)
     assert r.distance_m >= 3.0
     assert r.standing
+
+
+@pytest.mark.parametrize("trapezoid", [0.0, 0.5, 1.0])
+def test_swing_progress_runs_from_start_to_landing_and_flattens_the_peak_speed(trapezoid):
+    from mimic.agents.other_team.walk import swing_progress
+
+    u = np.linspace(0.0, 1.0, 2001)
+    s = np.array([swing_progress(x, trapezoid) for x in u])
+    speed = np.diff(s) / np.diff(u)  # in units of the mean speed
+    assert s[0] == pytest.approx(0.0) and s[-1] == pytest.approx(1.0)
+    assert (speed >= 0).all()
+    assert speed[0] < 0.05 and speed[-1] < 0.05  # starts and lands without a jump
+    # The cosine peaks at pi/2 of the mean speed, the trapezoid at 1 / (1 - 0.2) = 1.25.
+    expected_peak = (1 - trapezoid) * math.pi / 2 + trapezoid * 1.25
+    assert speed.max() == pytest.approx(expected_peak, rel=0.01)

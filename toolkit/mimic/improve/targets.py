@@ -303,13 +303,15 @@ class ModelTarget(Target):
 
 
 #: The other team's walk: parameter -> (scale, lower, upper), in the parameter's units.
-#: The step count per step (an integer), the start-up and the arm pose stay as they are.
+#: The cycles per step (an integer), the start-up bend and the arm pose stay as they are.
 WALK_SEARCH: dict[str, tuple[float, float, float]] = {
     "speed_m_s": (0.03, 0.35, 0.95),
     "max_step_m": (0.01, 0.06, 0.20),
+    "step_ramp_m": (0.001, 0.002, 0.02),
     "walk_height_m": (0.005, 0.14, 0.20),
     "step_height_m": (0.005, 0.03, 0.12),
     "swing_fraction": (0.03, 0.5, 0.95),
+    "swing_trapezoid": (0.1, 0.0, 1.0),
     "foot_spread_m": (0.005, -0.03, 0.03),
     "sway_m": (0.003, 0.0, 0.03),
     "foot_x_m": (0.005, -0.06, 0.03),

@@ -42,6 +42,9 @@ class WalkParams:
     step_height_m: float = 0.09321
     # Part of the step the swing foot spends in the air (lands early to beat servo lag).
     swing_fraction: float = 0.8275
+    # Swing foot's forward progress: 0 a cosine, 1 a trapezoidal speed profile (lower peak
+    # joint speeds for the capped servos), in between a blend.
+    swing_trapezoid: float = 0.0
     # Extra lateral distance of each foot from under its hip [m].
     foot_spread_m: float = -0.01113
     # Peak lateral torso shift toward the support foot, mid-step [m].

@@ -32,6 +32,30 @@ __all__ = ["OtherTeamWalk", "GRAVITY_M_S2"]
 
 GRAVITY_M_S2 = 9.81
 _MAX_AIM_RAD = 0.3
+# Share of the swing spent speeding up (and as much slowing down) on the trapezoidal profile.
+_SWING_RAMP = 0.2
+
+
+def swing_progress(u: float, trapezoid: float) -> float:
+    """Share of its forward travel the swing foot has covered at ``u`` in [0, 1] of the swing.
+
+    A blend of a cosine (``trapezoid`` 0: smooth, peak speed pi/2 of the mean) and a trapezoidal
+    speed profile (``trapezoid`` 1: speeds up and slows down over ``_SWING_RAMP`` of the swing,
+    peak speed 1 / (1 - ramp) of the mean). The servos are capped at 6.1395 rad/s and long fast
+    steps saturate the hip pitch on the cosine's peak, so a flatter profile asks less of them.
+    """
+    cosine = 0.5 - 0.5 * math.cos(math.pi * u)
+    if trapezoid <= 0.0:
+        return cosine
+    r = _SWING_RAMP
+    top = 1.0 / (1.0 - r)
+    if u < r:
+        flat = top * u * u / (2 * r)
+    elif u <= 1.0 - r:
+        flat = top * (u - r / 2)
+    else:
+        flat = 1.0 - top * (1.0 - u) ** 2 / (2 * r)
+    return (1.0 - trapezoid) * cosine + trapezoid * flat
 
 
 class OtherTeamWalk(Agent):
@@ -118,7 +142,7 @@ class OtherTeamWalk(Agent):
                 s, lift = phase, 0.0
             else:
                 swing = min(1.0, phase / p.swing_fraction)
-                s = 0.5 - 0.5 * math.cos(math.pi * swing)
+                s = swing_progress(swing, p.swing_trapezoid)
                 lift = p.step_height_m * 0.5 * (1 - math.cos(2 * math.pi * swing))
             hip_w = lean @ LEG.hip(side)
             pos_w = np.array(
