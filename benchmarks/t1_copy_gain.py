@@ -1,0 +1,150 @@
+"""Copies of a T1 motion from its 25 Hz angles and torso pose, with the compensation scaled.
+
+    python benchmarks/t1_copy_gain.py [--motion kick|walk] [--world league|mujoco]
+        [--gains 0 1 1.25 1.5] [--seeds 6] [--table] [--seconds 6]
+
+The original (our ``kick_right`` placed behind the ball, or the other team's T1 walk from a
+stand) plays once (seed 0); its joint angles and torso pose are taken every second cycle,
+as the league's monitor gives them. The copy's targets are the reached angles plus ``a``
+times the PD compensation (``learn.pd_compensate``, sent (delay + 0.5) cycles early as
+``mimic train`` does): ``a`` = 0 is the study's method, 1 the compensated target. Each is
+learned as a one-shot model (fast preset, seed 0) or, with ``--table``, tracked straight from
+the table without a network, and played from the original's start over seeds 1..N (1 deg
+start-pose noise). A kick counts as standing when the robot has not fallen by 2 s after the
+motion, holding its stand pose; a walk plays ``--seconds``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+import numpy as np
+from rich.console import Console
+from rich.table import Table
+
+from mimic.agents.neural_player import NeuralPlayer
+from mimic.agents.registry import agent_spec
+from mimic.checks.motions import Perturbation
+from mimic.episode import Episode, FallCounter, Observer, Scene
+from mimic.learn.dataset import Dataset
+from mimic.learn.pd_compensate import pd_references
+from mimic.learn.presets import get_preset
+from mimic.learn.train import TrainConfig, train_model
+from mimic.robot.registry import get_robot
+from mimic.trials.walk import WalkTrialConfig, walk_scene
+from mimic.trials.worlds import open_world
+from mimic.world.base import CYCLE_S
+
+sys.path.insert(0, str(Path(__file__).parent))
+from kick_copies import TablePlayer  # noqa: E402
+
+ROBOT = "t1"
+#: Every second cycle: the league's monitor rate.
+SAMPLE_EVERY = 2
+
+
+class _Seen(Observer):
+    """Angles, torso position and orientation every cycle; when the robot first fell [s]."""
+
+    def __init__(self) -> None:
+        self.angles, self.pos, self.quat = [], [], []
+        self.fell_s: float | None = None
+
+    def before_step(self, world, obs, agent, command) -> None:
+        self.angles.append(obs.joint_angles_rad)
+        self.pos.append(world.torso_pos_m().copy())
+        self.quat.append(world.torso_quat_wxyz().copy())
+        if self.fell_s is None and world.fallen():
+            self.fell_s = len(self.angles) * CYCLE_S
+
+
+def _scene(motion: str, world_kind: str, offset_m) -> Scene:
+    if motion == "walk":
+        return walk_scene(WalkTrialConfig(world=world_kind))
+    return Scene(
+        robot_xy_m=(-8.0 - offset_m[0], -offset_m[1]),
+        ball_offset_m=tuple(offset_m),
+        noise=Perturbation().noise(),
+        settle_s=0.2,
+    )
+
+
+def play(agent, motion: str, world_kind: str, offset_m, seed: int, seconds: float):
+    """(observer, ball or torso distance [m], standing at the end) of one episode."""
+    with open_world(world_kind, ROBOT) as world:
+        _scene(motion, world_kind, offset_m).setup(world, np.random.default_rng(seed))
+        ball0, torso0 = world.ball_pos_m()[:2].copy(), world.torso_pos_m()[:2].copy()
+        seen, falls = _Seen(), FallCounter()
+        episode = Episode(world, observers=(seen,), falls=falls)
+        episode.run(agent, max_s=seconds, abort_on_fall=False)
+        if motion == "kick":
+            episode.stand_still(max_s=2.0)
+            distance = float(np.hypot(*(world.ball_pos_m()[:2] - ball0)))
+        else:
+            distance = float(world.torso_pos_m()[0] - torso0[0])
+        return seen, distance, falls.falls == 0 and not world.fallen()
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("--motion", choices=("kick", "walk"), default="kick")
+    parser.add_argument("--world", choices=("league", "mujoco"), default="league")
+    parser.add_argument("--gains", type=float, nargs="+", default=[0.0, 1.0, 1.25, 1.5])
+    parser.add_argument("--seeds", type=int, default=6)
+    parser.add_argument("--table", action="store_true", help="track the targets, no network")
+    parser.add_argument("--seconds", type=float, default=6.0, help="walk: how long to play")
+    args = parser.parse_args()
+
+    robot = get_robot(ROBOT)
+    spec = agent_spec("kick_right" if args.motion == "kick" else "other-team-walk", robot=ROBOT)
+    offset = spec.ball_offset_m() if args.motion == "kick" else (3.0, 3.0)
+    seconds = 8.0 if args.motion == "kick" else args.seconds
+    seen, distance, standing = play(spec.build(), args.motion, args.world, offset, 0, seconds)
+    q = np.array(seen.angles)[::SAMPLE_EVERY]
+    pos, quat = np.array(seen.pos)[::SAMPLE_EVERY], np.array(seen.quat)[::SAMPLE_EVERY]
+    t = np.arange(len(q)) * CYCLE_S * SAMPLE_EVERY
+    comp = pd_references(t, q, pos, quat, robot).references_rad
+    delay = 1 if args.world == "league" else 0
+    lead_s = (delay + 0.5) * CYCLE_S
+    comp = np.stack([np.interp(t + lead_s, t, comp[:, j]) for j in range(comp.shape[1])], 1)
+
+    table = Table(
+        title=f"T1 {args.motion} copies, {args.world} world, seeds 1-{args.seeds}"
+        + (" (reference table, no network)" if args.table else "")
+    )
+    for column in ("target", "distance m", "standing", "fell after s"):
+        table.add_column(column, justify="right")
+    table.add_row("original (seed 0)", f"{distance:.2f}", "yes" if standing else "no", "")
+    for gain in args.gains:
+        targets = q + gain * (comp - q)
+        flags = np.zeros((len(t), 1))
+        flags[-1] = 1.0
+        dataset = Dataset(
+            t, np.hstack([targets, flags]), ROBOT, robot.joint_names,
+            metadata={"motion": f"{args.motion} copy", "ball_offset_m": list(offset)},
+        )  # fmt: skip
+        if args.table:
+            per_cycle = np.arange(0, t[-1] + 1e-9, CYCLE_S)
+            rows = np.stack([np.interp(per_cycle, t, targets[:, j]) for j in range(len(q[0]))], 1)
+        else:
+            model = train_model(dataset, TrainConfig(get_preset("fast"), seed=0))
+        outcomes = []
+        for seed in range(1, args.seeds + 1):
+            agent = TablePlayer(rows) if args.table else NeuralPlayer(model)
+            agent.robot = ROBOT
+            outcomes.append(play(agent, args.motion, args.world, offset, seed, seconds))
+        distances = np.array([o[1] for o in outcomes])
+        fell = [o[0].fell_s for o in outcomes if o[0].fell_s is not None]
+        table.add_row(
+            f"reached + {gain:g} x compensation",
+            f"{distances.mean():.2f} +- {distances.std():.2f}",
+            f"{sum(o[2] for o in outcomes)}/{len(outcomes)}",
+            f"{np.mean(fell):.1f}" if fell else "-",
+        )
+    Console(width=80).print(table)
+
+
+if __name__ == "__main__":
+    main()
