@@ -347,7 +347,7 @@ def _set(params, path: str, value: float):
 
 
 class ParamsTarget(Target):
-    """An engine's parameters (``WALK_SEARCH`` for the other team's walk: 19 floats)."""
+    """An engine's parameters (``WALK_SEARCH`` for the other team's walk: 21 floats)."""
 
     kind, suffix = "params", ".json"
 
