@@ -2,8 +2,9 @@
 
 Feet are planned in a walk frame at the torso centre with the torso's heading but upright
 (x forward, y left, z up). In step n the support foot slides back linearly (the torso moves
-forward over it) while the swing foot travels forward on a cosine and lifts by
-0.5 (1 - cos(2 pi phase)); the torso shifts toward the support foot along the pendulum's
+forward over it) while the swing foot travels forward on a cosine (blended with a
+trapezoidal speed profile by ``swing_trapezoid``) and lifts by 0.5 (1 - cos(2 pi phase));
+the torso shifts toward the support foot along the pendulum's
 cosh(k t) curve, k = sqrt(g / walk height). Step length is rate-limited (the start-up ramp);
 IMU tilt and roll feed back into the ankles and a heading error into the foot yaw. Step timing
 is fixed in whole 20 ms cycles, so the steady gait repeats exactly every two steps.
