@@ -1,7 +1,8 @@
 """Copies of a T1 motion from its 25 Hz angles and torso pose, with the compensation scaled.
 
     python benchmarks/t1_copy_gain.py [--motion kick|walk] [--world league|mujoco]
-        [--gains 0 1 1.25 1.5] [--seeds 6] [--table] [--seconds 6]
+        [--gains 0 1 1.25 1.5] [--seeds 6] [--first-seed 1] [--table] [--seconds 6]
+        [--balance PITCH ROLL PITCH_RATE_S ROLL_RATE_S LIMIT_RAD]
 
 The original (our ``kick_right`` placed behind the ball, or the other team's T1 walk from a
 stand) plays once (seed 0); its joint angles and torso pose are taken every second cycle,
@@ -9,9 +10,10 @@ as the league's monitor gives them. The copy's targets are the reached angles pl
 times the PD compensation (``learn.pd_compensate``, sent (delay + 0.5) cycles early as
 ``mimic train`` does): ``a`` = 0 is the study's method, 1 the compensated target. Each is
 learned as a one-shot model (fast preset, seed 0) or, with ``--table``, tracked straight from
-the table without a network, and played from the original's start over seeds 1..N (1 deg
-start-pose noise). A kick counts as standing when the robot has not fallen by 2 s after the
-motion, holding its stand pose; a walk plays ``--seconds``.
+the table without a network, and played from the original's start over ``--seeds`` seeds
+from ``--first-seed`` (1 deg start-pose noise); with ``--balance`` inside the balance layer
+with those tilt gains. A kick counts as standing when the robot has not fallen by 2 s after
+the motion, holding its stand pose; a walk plays ``--seconds``.
 """
 
 from __future__ import annotations
@@ -24,6 +26,7 @@ import numpy as np
 from rich.console import Console
 from rich.table import Table
 
+from mimic.agents.balance import BalancedAgent, BalanceGains
 from mimic.agents.neural_player import NeuralPlayer
 from mimic.agents.registry import agent_spec
 from mimic.checks.motions import Perturbation
@@ -93,8 +96,16 @@ def main() -> None:
     parser.add_argument("--world", choices=("league", "mujoco"), default="league")
     parser.add_argument("--gains", type=float, nargs="+", default=[0.0, 1.0, 1.25, 1.5])
     parser.add_argument("--seeds", type=int, default=6)
+    parser.add_argument("--first-seed", type=int, default=1, help="seed 0 records the original")
     parser.add_argument("--table", action="store_true", help="track the targets, no network")
     parser.add_argument("--seconds", type=float, default=6.0, help="walk: how long to play")
+    parser.add_argument(
+        "--balance",
+        type=float,
+        nargs=5,
+        metavar=("PITCH", "ROLL", "PITCH_RATE_S", "ROLL_RATE_S", "LIMIT_RAD"),
+        help="play the learned copies inside the balance layer with these tilt gains",
+    )
     args = parser.parse_args()
 
     robot = get_robot(ROBOT)
@@ -111,8 +122,10 @@ def main() -> None:
     comp = np.stack([np.interp(t + lead_s, t, comp[:, j]) for j in range(comp.shape[1])], 1)
 
     table = Table(
-        title=f"T1 {args.motion} copies, {args.world} world, seeds 1-{args.seeds}"
+        title=f"T1 {args.motion} copies, {args.world} world, seeds "
+        f"{args.first_seed}-{args.first_seed + args.seeds - 1}"
         + (" (reference table, no network)" if args.table else "")
+        + (" + balance layer" if args.balance and not args.table else "")
     )
     for column in ("target", "distance m", "standing", "fell after s"):
         table.add_column(column, justify="right")
@@ -131,8 +144,12 @@ def main() -> None:
         else:
             model = train_model(dataset, TrainConfig(get_preset("fast"), seed=0))
         outcomes = []
-        for seed in range(1, args.seeds + 1):
+        for seed in range(args.first_seed, args.first_seed + args.seeds):
             agent = TablePlayer(rows) if args.table else NeuralPlayer(model)
+            if args.balance and not args.table:
+                pitch, roll, pitch_rate_s, roll_rate_s, limit_rad = args.balance
+                gains = BalanceGains(pitch, roll, pitch_rate_s, roll_rate_s, limit_rad=limit_rad)
+                agent = BalancedAgent(agent, gains=gains)
             agent.robot = ROBOT
             outcomes.append(play(agent, args.motion, args.world, offset, seed, seconds))
         distances = np.array([o[1] for o in outcomes])
