@@ -32,9 +32,8 @@ from mimic.agents.registry import agent_spec
 from mimic.checks.motions import Perturbation
 from mimic.episode import Episode, FallCounter, Observer, Scene
 from mimic.learn.dataset import Dataset
-from mimic.learn.pd_compensate import pd_references
 from mimic.learn.presets import get_preset
-from mimic.learn.train import TrainConfig, train_model
+from mimic.learn.train import TrainConfig, pd_compensated_targets, train_model
 from mimic.robot.registry import get_robot
 from mimic.trials.walk import WalkTrialConfig, walk_scene
 from mimic.trials.worlds import open_world
@@ -116,10 +115,7 @@ def main() -> None:
     q = np.array(seen.angles)[::SAMPLE_EVERY]
     pos, quat = np.array(seen.pos)[::SAMPLE_EVERY], np.array(seen.quat)[::SAMPLE_EVERY]
     t = np.arange(len(q)) * CYCLE_S * SAMPLE_EVERY
-    comp = pd_references(t, q, pos, quat, robot).references_rad
-    delay = 1 if args.world == "league" else 0
-    lead_s = (delay + 0.5) * CYCLE_S
-    comp = np.stack([np.interp(t + lead_s, t, comp[:, j]) for j in range(comp.shape[1])], 1)
+    comp = pd_compensated_targets(t, q, pos, quat, robot, args.world)
 
     table = Table(
         title=f"T1 {args.motion} copies, {args.world} world, seeds "

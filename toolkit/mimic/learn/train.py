@@ -33,6 +33,7 @@ __all__ = [
     "evaluate",
     "input_mapping",
     "training_dataset",
+    "pd_compensated_targets",
     "TARGET_REACHED",
     "TARGET_COMPENSATED",
 ]
@@ -310,7 +311,10 @@ def training_dataset(
                 f"(/joint_states) and its torso pose on /tf, which {path} lacks; learn its "
                 "reached angles (--target reached)"
             )
-        ds = ds.with_angles(_pd_compensated(ds, robot, tf.world, *torso), target=target)
+        ds = ds.with_angles(
+            pd_compensated_targets(ds.time_s, ds.angles_rad, *torso, robot, tf.world),
+            target=target,
+        )
     elif target == TARGET_COMPENSATED:
         ds = ds.with_angles(
             compensate_references(ds.time_s, ds.angles_rad, ds.robot), target=target
@@ -403,14 +407,23 @@ class _RecordedTf:
         return [round(float(v), 4) for v in offset]
 
 
-def _pd_compensated(ds: Dataset, robot, world: str, pos: np.ndarray, quat: np.ndarray):
-    """PD references for the dataset's samples, sent early by the world's command delay."""
+def pd_compensated_targets(
+    time_s: np.ndarray,
+    angles_rad: np.ndarray,
+    torso_pos_m: np.ndarray,
+    torso_quat_wxyz: np.ndarray,
+    robot,
+    world: str,
+) -> np.ndarray:
+    """(T, N) PD references for observed samples (``learn.pd_compensate.pd_references``), sent
+    early by the command delay of ``world`` (``league`` or ours), as ``mimic train`` learns
+    them."""
     from mimic.league.world import LeagueWorld
     from mimic.learn.pd_compensate import pd_references
     from mimic.world.base import CYCLE_S, World
 
-    refs = pd_references(ds.time_s, ds.angles_rad, pos, quat, robot).references_rad
+    refs = pd_references(time_s, angles_rad, torso_pos_m, torso_quat_wxyz, robot).references_rad
     # A reference acts from the cycle after it is sent (the league server: one cycle later
     # still): learn the one that acts mid-cycle, (delay + 0.5) cycles on.
     delay = (LeagueWorld if world == "league" else World).command_delay_cycles
-    return _interp_columns(ds.time_s + (delay + 0.5) * CYCLE_S, ds.time_s, refs)
+    return _interp_columns(time_s + (delay + 0.5) * CYCLE_S, time_s, refs)
