@@ -69,6 +69,8 @@ class TablePlayer(Agent):
         row = self.references_rad[min(self._i, len(self.references_rad) - 1)]
         self._i += 1
         self.done = self._i >= len(self.references_rad)
+        # Exposed, as every reference-playing agent does, for the balance layer to correct.
+        self.reference_rad = row
         return JointCommand.references(row)
 
 
