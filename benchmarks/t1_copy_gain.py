@@ -89,6 +89,21 @@ def play(agent, motion: str, world_kind: str, offset_m, seed: int, seconds: floa
         return seen, distance, falls.falls == 0 and not world.fallen()
 
 
+def monitor_view(seen: _Seen, robot, world_kind: str):
+    """(sample times [s], reached angles [rad], compensated references [rad]) of an episode
+    as the league's monitor shows it: every ``SAMPLE_EVERY``-th cycle."""
+    q = np.array(seen.angles)[::SAMPLE_EVERY]
+    pos, quat = np.array(seen.pos)[::SAMPLE_EVERY], np.array(seen.quat)[::SAMPLE_EVERY]
+    t = np.arange(len(q)) * CYCLE_S * SAMPLE_EVERY
+    return t, q, pd_compensated_targets(t, q, pos, quat, robot, world_kind)
+
+
+def per_cycle(t: np.ndarray, values: np.ndarray) -> np.ndarray:
+    """(T, N) ``values`` sampled at times ``t`` [s], interpolated to one row per cycle."""
+    cycles = np.arange(0, t[-1] + 1e-9, CYCLE_S)
+    return np.stack([np.interp(cycles, t, values[:, j]) for j in range(values.shape[1])], 1)
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--motion", choices=("kick", "walk"), default="kick")
@@ -112,10 +127,7 @@ def main() -> None:
     offset = spec.ball_offset_m() if args.motion == "kick" else (3.0, 3.0)
     seconds = 8.0 if args.motion == "kick" else args.seconds
     seen, distance, standing = play(spec.build(), args.motion, args.world, offset, 0, seconds)
-    q = np.array(seen.angles)[::SAMPLE_EVERY]
-    pos, quat = np.array(seen.pos)[::SAMPLE_EVERY], np.array(seen.quat)[::SAMPLE_EVERY]
-    t = np.arange(len(q)) * CYCLE_S * SAMPLE_EVERY
-    comp = pd_compensated_targets(t, q, pos, quat, robot, args.world)
+    t, q, comp = monitor_view(seen, robot, args.world)
 
     table = Table(
         title=f"T1 {args.motion} copies, {args.world} world, seeds "
@@ -135,8 +147,7 @@ def main() -> None:
             metadata={"motion": f"{args.motion} copy", "ball_offset_m": list(offset)},
         )  # fmt: skip
         if args.table:
-            per_cycle = np.arange(0, t[-1] + 1e-9, CYCLE_S)
-            rows = np.stack([np.interp(per_cycle, t, targets[:, j]) for j in range(len(q[0]))], 1)
+            rows = per_cycle(t, targets)
         else:
             model = train_model(dataset, TrainConfig(get_preset("fast"), seed=0))
         outcomes = []

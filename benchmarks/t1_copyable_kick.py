@@ -65,8 +65,6 @@ PARAMETERS = (
 TIMED_STEPS = (0, 6, 8, 12, 15)
 ANGLE_UNIT_DEG, TIME_UNIT = 3.0, 0.2
 DIMENSIONS = len(PARAMETERS) + len(TIMED_STEPS)
-#: Every second cycle: the league's monitor rate.
-SAMPLE_EVERY = 2
 
 
 def movement(z: np.ndarray):
@@ -115,12 +113,10 @@ def _copy_agent(rows: np.ndarray):
 def kick_and_copy(z, world: str, seeds: list[int]) -> dict:
     """The candidate's kicks and its copy's over ``seeds`` (the first seed's kick is copied)."""
     import torch
-    from t1_copy_gain import play
+    from t1_copy_gain import monitor_view, per_cycle, play
 
     from mimic.agents.keyframe_player import KeyframePlayer
-    from mimic.learn.train import pd_compensated_targets
     from mimic.robot.registry import get_robot
-    from mimic.world.base import CYCLE_S
 
     torch.set_num_threads(1)
     kick = movement(np.asarray(z, dtype=float))
@@ -130,13 +126,8 @@ def kick_and_copy(z, world: str, seeds: list[int]) -> dict:
         agent = KeyframePlayer(kick)
         agent.robot = "t1"
         originals.append(play(agent, "kick", world, offset, seed, 8.0))
-    seen = originals[0][0]
-    q = np.array(seen.angles)[::SAMPLE_EVERY]
-    pos, quat = np.array(seen.pos)[::SAMPLE_EVERY], np.array(seen.quat)[::SAMPLE_EVERY]
-    t = np.arange(len(q)) * CYCLE_S * SAMPLE_EVERY
-    refs = pd_compensated_targets(t, q, pos, quat, get_robot("t1"), world)
-    per_cycle = np.arange(0, t[-1] + 1e-9, CYCLE_S)
-    rows = np.stack([np.interp(per_cycle, t, refs[:, j]) for j in range(q.shape[1])], 1)
+    t, _, refs = monitor_view(originals[0][0], get_robot("t1"), world)
+    rows = per_cycle(t, refs)
     copies = [play(_copy_agent(rows), "kick", world, offset, seed, 8.0) for seed in seeds]
 
     def summary(runs):
@@ -247,6 +238,9 @@ def main() -> None:
     parser.add_argument("--out", default="out/t1_copyable_kick")
     parser.add_argument("--validate", help="a best.json to replay on held-out seeds")
     args = parser.parse_args()
+    for given in (args.start, args.validate):
+        if given and not Path(given).is_file():
+            parser.error(f"{given}: no such file; give a best.json the search wrote")
     validate(args) if args.validate else search(args)
 
 
