@@ -703,3 +703,30 @@ def test_one_name_for_the_save_option():
         res = runner.invoke(app, [*command, "--help"], env={"COLUMNS": "200"})
         assert "--save " in res.output and "--save-rrd" not in res.output, command
         assert "--force" in res.output, command
+
+
+def _every_command(command, context, path=()):
+    yield path, command
+    if hasattr(command, "list_commands"):
+        for name in command.list_commands(context):
+            yield from _every_command(command.get_command(context, name), context, (*path, name))
+
+
+def test_help_texts_keep_their_units_in_brackets():
+    # Typer renders help as Rich markup: an unescaped "[s]" is a tag and vanishes ("Learn
+    # from this time on ."). Every bracket a help text shows must come through as written.
+    import typer
+    from rich.text import Text
+
+    root = typer.main.get_command(app)
+    context = type(root).context_class(root)
+    seen = 0
+    for path, command in _every_command(root, context):
+        for param in command.params:
+            text = getattr(param, "help", None) or ""
+            if "[" in text:
+                seen += 1
+                assert Text.from_markup(text).plain == text.replace("\\[", "["), (path, param.name)
+    assert seen >= 4  # units in brackets: --start, --end, --period, --distance
+    res = runner.invoke(app, ["train", "--help"], env={"COLUMNS": "200"})
+    assert "[s from the recording's first sample]" in res.output

@@ -269,7 +269,7 @@ def register(app: typer.Typer) -> None:
             typer.Option(help="/joint_references or /joint_states (default: by file name)."),
         ] = None,
         distance: Annotated[
-            float | None, typer.Option(help="Kick family: which distance [m] to import.")
+            float | None, typer.Option(help="Kick family: which distance \\[m] to import.")
         ] = None,
         team: Annotated[
             str | None, typer.Option(help="Game log: the player's team.", rich_help_panel="League")

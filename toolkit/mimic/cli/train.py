@@ -88,15 +88,15 @@ def register(app: typer.Typer) -> None:
         ] = None,
         start: Annotated[
             float | None,
-            typer.Option(help="Learn from this time on [s from the recording's first sample]."),
+            typer.Option(help="Learn from this time on \\[s from the recording's first sample]."),
         ] = None,
         end: Annotated[
-            float | None, typer.Option(help="Learn up to this time [s, as --start].")
+            float | None, typer.Option(help="Learn up to this time \\[s, as --start].")
         ] = None,
         period: Annotated[
             str | None,
             typer.Option(
-                help="Learn one cyclic motion of this period [s], or 'auto' to find it in the "
+                help="Learn one cyclic motion of this period \\[s], or 'auto' to find it in the "
                 "angles (default: as the recording says)."
             ),
         ] = None,
