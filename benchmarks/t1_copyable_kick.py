@@ -3,7 +3,7 @@ with the copy in the loop.
 
     python benchmarks/t1_copyable_kick.py [--world league|mujoco] [--generations 40]
         [--population 10] [--seeds 3] [--sigma 0.5] [--cap 5] [--start z.json] [--out DIR]
-    python benchmarks/t1_copyable_kick.py --validate DIR/best.json [--seeds 10]
+    python benchmarks/t1_copyable_kick.py --validate DIR/best.json [--seeds 10] [--black-box]
 
 A candidate is ``kick_right`` with 26 changes (``PARAMETERS``): the roll and pitch angles of the
 weight shift, the wind-up, the swing and the return, in units of 3 deg, and five keyframe
@@ -17,8 +17,13 @@ distance (at most the original's) if it stands, else 0.4x that less 1.5 m (plus 
 second it stayed up). A kick stands when the robot is up 2 s after the motion, holding its
 stand pose. ``--validate`` replays a result (and writes its motion file to ``--out``): the
 original over seed 0 and seeds 301 on (``--seeds`` in all), and the copy made from its seed-0
-kick over the same seeds. ``benchmarks/data/t1_copyable_kick.json`` holds the best candidate
-found so far (its provenance inside).
+kick over the same seeds. With ``--black-box`` it takes the study's path instead, as a user
+would: the candidate kicks once (seed 0) in a hosted league server while ``mimic record
+--server`` records it from the monitor stream; ``mimic train seen.mcap --end 3.6`` learns the
+copy (compensated, the default; the ball offset read from the recording); the original and the
+model, with and without the balance layer, then kick over seeds 301 on (``--seeds`` of them),
+each placed where its own motion wants the ball. ``benchmarks/data/t1_copyable_kick.json``
+holds the best candidate found so far (its provenance inside).
 """
 
 from __future__ import annotations
@@ -32,6 +37,8 @@ from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 
 import numpy as np
+
+from mimic.motion.files import format_motion
 
 sys.path.insert(0, str(Path(__file__).parent))
 
@@ -212,8 +219,6 @@ def search(args) -> None:
 
 
 def validate(args) -> None:
-    from mimic.motion.files import format_motion
-
     z = np.array(json.loads(Path(args.validate).read_text())["z"])
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
@@ -223,6 +228,75 @@ def validate(args) -> None:
     print(_line("copy (compensated, balance layer)", outcome["copy"]))
     ratio = np.mean(outcome["copy"]["distance_m"]) / np.mean(outcome["original"]["distance_m"])
     print(f"copy / original distance: {ratio:.2f}")
+
+
+def black_box(args) -> None:
+    """The candidate learned through ``mimic record --server`` and ``mimic train`` (module
+    docstring), then the original and the copies kick over held-out seeds."""
+    import subprocess
+
+    from t1_copy_gain import play
+
+    from mimic.agents.keyframe_player import KeyframePlayer
+    from mimic.agents.registry import agent_spec
+    from mimic.checks.motions import Perturbation
+    from mimic.episode import Episode, Scene
+    from mimic.league.world import LeagueWorld
+
+    z = np.array(json.loads(Path(args.validate).read_text())["z"])
+    kick, out = movement(z), Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    (out / "kick_right.txt").write_text(format_motion(kick))
+    mimic = str(Path(sys.executable).with_name("mimic"))
+    seen, model, offset = out / "seen.mcap", out / "copy.mimic", tuple(kick.ball_offset_m)
+    world = LeagueWorld("t1")
+    try:
+        Scene(
+            robot_xy_m=(-8.0 - offset[0], -offset[1]),
+            ball_offset_m=offset,
+            noise=Perturbation().noise(),
+            settle_s=0.2,
+        ).setup(world, np.random.default_rng(0))
+        recorder = subprocess.Popen(
+            [mimic, "record", "--server", world.server.monitor_address, "--team",
+             world.config.team, "--player", str(world.config.player), "--seconds", "9",
+             "-o", str(seen), "--force"],
+            stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
+        )  # fmt: skip
+        time.sleep(3.0)  # sync mode: the server waits for our agent while the recorder joins
+        agent = KeyframePlayer(kick)
+        agent.robot = "t1"
+        episode = Episode(world)
+        episode.run(agent, max_s=8.0, abort_on_fall=False)
+        episode.stand_still(max_s=2.0)
+        if recorder.wait(timeout=120) != 0:
+            sys.exit(f"mimic record failed: {recorder.stdout.read().strip()}")
+    finally:
+        world.close()
+    trained = subprocess.run(
+        [mimic, "train", str(seen), "--end", "3.6", "-o", str(model), "--force"],
+        capture_output=True, text=True,
+    )  # fmt: skip
+    if trained.returncode != 0:
+        sys.exit(f"mimic train failed: {trained.stderr.strip()}")
+    seeds = list(range(301, 301 + args.seeds))
+    runs = {}
+    for label, name in (
+        ("original", str(out / "kick_right.txt")),
+        ("copy +balance", f"{model}+balance"),
+        ("copy", str(model)),
+    ):
+        spec = agent_spec(name, robot="t1")
+        where = tuple(spec.ball_offset_m())
+        outcomes = [play(spec.build(), "kick", "league", where, seed, 8.0) for seed in seeds]
+        runs[label] = dict(
+            distance_m=[o[1] for o in outcomes], standing=[bool(o[2]) for o in outcomes]
+        )
+        print(_line(f"{label} (ball at {where[0]:.3f}, {where[1]:.3f} m)", runs[label]))
+    for label in ("copy +balance", "copy"):
+        ratio = np.mean(runs[label]["distance_m"]) / np.mean(runs["original"]["distance_m"])
+        print(f"{label} / original distance: {ratio:.2f}")
+    (out / "black_box.json").write_text(json.dumps(dict(seeds=seeds, **runs), indent=1))
 
 
 def main() -> None:
@@ -237,11 +311,21 @@ def main() -> None:
     parser.add_argument("--start", help="a best.json to start from (default: kick_right)")
     parser.add_argument("--out", default="out/t1_copyable_kick")
     parser.add_argument("--validate", help="a best.json to replay on held-out seeds")
+    parser.add_argument(
+        "--black-box",
+        action="store_true",
+        help="with --validate: learn the copy through mimic record --server and mimic train",
+    )
     args = parser.parse_args()
     for given in (args.start, args.validate):
         if given and not Path(given).is_file():
             parser.error(f"{given}: no such file; give a best.json the search wrote")
-    validate(args) if args.validate else search(args)
+    if args.black_box and not args.validate:
+        parser.error("--black-box needs --validate FILE")
+    if args.validate:
+        black_box(args) if args.black_box else validate(args)
+    else:
+        search(args)
 
 
 if __name__ == "__main__":

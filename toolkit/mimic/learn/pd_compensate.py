@@ -8,8 +8,8 @@ walk or kick copied that way falls within a second. The reference that reproduce
 is ``r = q + (tau + kd dq) / kp`` with ``tau`` the torque each joint needed, and that torque
 follows from the observed motion by inverse dynamics:
 
-1. The motion is smoothed and differentiated by local polynomial fits (``half_window``
-   samples each side, order ``poly_order``): joint angles, the torso position and its
+1. The motion is smoothed and differentiated by local polynomial fits (``half_window_s``
+   each side, order ``poly_order``): joint angles, the torso position and its
    orientation (the floating base, from ``/tf``), so every sample has positions, velocities
    and accelerations of every degree of freedom.
 2. MuJoCo's inverse dynamics, with all constraints off, gives the generalised force the whole
@@ -27,14 +27,17 @@ The references are returned at the sample times; a world that applies a command 
 (the league server) needs them ``lead_s`` early, which ``pd_references`` leaves to its caller
 (``training_dataset`` shifts league recordings by one cycle).
 
-Measured (``tests/test_pd_compensate.py``; the T1 other team's walk; from recorded instants
-the robot is set to the recorded state and continues open loop, no feedback at all): recorded
-in our world at 50 Hz, the reached angles replayed as references fall after 27-58 cycles,
-0.034-0.061 rad mean tracking error over the first half second; these references walk on to
-the recording's end from 4 of 5 instants (the fifth: 253 of 260 cycles), 0.004-0.005 rad.
-Recorded from the league's monitor stream (25 Hz) and continued in our world with the league's
-solver options and one cycle of command delay: 28-66 cycles against 75-127, 0.052-0.061
-against 0.008-0.012 rad.
+Measured (``tests/test_pd_compensate.py``; the T1 other team's walk recorded in our world at
+50 Hz; from six recorded instants 40-140 cycles in, the robot is set to the recorded state and
+continues open loop, no feedback at all): the reached angles replayed as references fall after
+30-38 cycles, 0.057-0.064 rad mean tracking error over the first half second; these references
+walk on to the recording's end from 3 of the 6 instants (the others 205-221 of 213-253
+cycles), 0.009 rad. T1 kicks seen as the league's monitor gives them (25 Hz) and tracked from
+the table inside the balance layer, 10 seeds (``benchmarks/t1_copyable_kick.py``): one kicks
+3.06 m from references built on smoothed angles (7-sample fits), 3.54 m on 5-sample fits and
+3.75 m on the observed angles (7-sample derivatives; the original: 3.78 m); another 3.78 m
+on the observed angles with 7-sample derivatives and 4.37 m with 5-sample ones, the default at
+25 Hz (the original: 4.70 m).
 
 What it cannot see: in double support, torques that press the legs against each other move
 nothing and leave no trace in the angles (a keyframe motion may hold such a squeeze); contacts
@@ -44,6 +47,7 @@ ground forces.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import mujoco
@@ -68,9 +72,15 @@ __all__ = [
 class PdCompensationConfig:
     """How references are reconstructed from an observed motion of a PD-motor robot."""
 
-    # Local polynomial fits: samples each side of the centre, and the polynomial's order.
-    half_window: int = 3
+    # Local polynomial fits: how far each side of the centre they reach [s] (rounded up to
+    # whole samples: 3 at our 50 Hz, 2 at the league monitor's 25 Hz; a kick's strike lasts
+    # about 0.1 s, and a wider fit flattens it), and the polynomial's order.
+    half_window_s: float = 0.06
     poly_order: int = 3
+
+    def half_window(self, dt_s: float) -> int:
+        """Samples each side of the centre for samples every ``dt_s`` [s]."""
+        return max(1, math.ceil(self.half_window_s / dt_s - 1e-6))
     # A foot touches the ground when its link is within this of the lowest it gets [m].
     contact_height_m: float = 0.015
     # Cost of a foot moment [N m] relative to a force [N] when two feet share the load [1/m^2].
@@ -168,21 +178,19 @@ def pd_references(
             f"PD compensation: {T} times, angles {q.shape}, torso positions {pos.shape} and "
             f"orientations {quat.shape} for the {robot.num_joints} {robot.name} joints"
         )
-    if T < 2 * config.half_window + 1:
-        raise MimicError(
-            f"PD compensation needs at least {2 * config.half_window + 1} samples, got {T}"
-        )
     steps = np.diff(t)
-    dt = float(np.median(steps))
+    dt = float(np.median(steps)) if T > 1 else 0.0
     if not (dt > 0 and np.all(np.abs(steps - dt) < 0.25 * dt)):
         raise MimicError("PD compensation needs evenly spaced samples (resample the motion)")
+    h, order = config.half_window(dt), config.poly_order
+    if T < 2 * h + 1:
+        raise MimicError(f"PD compensation needs at least {2 * h + 1} samples, got {T}")
 
     world = MujocoWorld(robot)
     m, d = world.model, world.data
     # Free motion: no contacts, limits or friction loss; the feet's share is solved below.
     m.opt.disableflags |= int(mujoco.mjtDisableBit.mjDSBL_CONSTRAINT)
 
-    h, order = config.half_window, config.poly_order
     q_s, dq, ddq = local_polynomial(q, dt, h, order)
     p_s, dp, ddp = local_polynomial(pos, dt, h, order)
     quat_s, dquat, _ = local_polynomial(one_hemisphere(quat), dt, h, order)
@@ -232,5 +240,7 @@ def pd_references(
             force -= jac @ wrench
         residual[k] = np.abs(force[base]).max()
         torques[k] = np.clip(force[jv], -limit, limit)
-    references = q_s + (torques + kd * dq) / kp
+    # The observed angle itself, not its smoothed value: the fit is there for the derivatives,
+    # and a smoothed angle cuts a kick's strike short (see "Measured" above).
+    references = q + (torques + kd * dq) / kp
     return PdCompensation(references, torques, contacts, residual)
