@@ -81,6 +81,7 @@ class PdCompensationConfig:
     def half_window(self, dt_s: float) -> int:
         """Samples each side of the centre for samples every ``dt_s`` [s]."""
         return max(1, math.ceil(self.half_window_s / dt_s - 1e-6))
+
     # A foot touches the ground when its link is within this of the lowest it gets [m].
     contact_height_m: float = 0.015
     # Cost of a foot moment [N m] relative to a force [N] when two feet share the load [1/m^2].
