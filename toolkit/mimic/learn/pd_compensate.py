@@ -179,8 +179,10 @@ def pd_references(
             f"PD compensation: {T} times, angles {q.shape}, torso positions {pos.shape} and "
             f"orientations {quat.shape} for the {robot.num_joints} {robot.name} joints"
         )
+    if T < 3:
+        raise MimicError(f"PD compensation needs at least 3 samples, got {T}")
     steps = np.diff(t)
-    dt = float(np.median(steps)) if T > 1 else 0.0
+    dt = float(np.median(steps))
     if not (dt > 0 and np.all(np.abs(steps - dt) < 0.25 * dt)):
         raise MimicError("PD compensation needs evenly spaced samples (resample the motion)")
     h, order = config.half_window(dt), config.poly_order
