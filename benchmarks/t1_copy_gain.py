@@ -31,6 +31,7 @@ from mimic.agents.neural_player import NeuralPlayer
 from mimic.agents.registry import agent_spec
 from mimic.checks.motions import Perturbation
 from mimic.episode import Episode, FallCounter, Observer, Scene
+from mimic.geometry import in_robot_frame
 from mimic.learn.dataset import Dataset
 from mimic.learn.presets import get_preset
 from mimic.learn.train import TrainConfig, pd_compensated_targets, train_model
@@ -48,13 +49,21 @@ SAMPLE_EVERY = 2
 
 
 class _Seen(Observer):
-    """Angles, torso position and orientation every cycle; when the robot first fell [s]."""
+    """Angles, torso position and orientation every cycle; when the robot first fell [s];
+    the ball in the torso's frame at the first cycle (x forward, y left [m]), where a
+    recording shows it to ``mimic train``."""
 
     def __init__(self) -> None:
         self.angles, self.pos, self.quat = [], [], []
         self.fell_s: float | None = None
+        self.ball_offset_m: tuple[float, float] | None = None
 
     def before_step(self, world, obs, agent, command) -> None:
+        if self.ball_offset_m is None:
+            ball = in_robot_frame(
+                world.ball_pos_m()[:2], world.torso_pos_m()[:2], world.torso_yaw_rad()
+            )
+            self.ball_offset_m = (float(ball[0]), float(ball[1]))
         self.angles.append(obs.joint_angles_rad)
         self.pos.append(world.torso_pos_m().copy())
         self.quat.append(world.torso_quat_wxyz().copy())

@@ -11,7 +11,9 @@ durations, in units of 20 %. Each candidate kicks from behind the ball over ``--
 starts (1 deg start-pose noise); its first kick is seen as the league's monitor gives it (joint
 angles and torso pose every second cycle), turned into compensated references
 (``learn.train.pd_compensated_targets``, what ``mimic train`` learns by default) and tracked
-straight from that table inside the T1's balance layer (default gains) from the same starts.
+straight from that table inside the T1's balance layer (default gains) from the same starts,
+the ball where the recording shows it (the first start's noise included, as ``mimic train``
+reads it).
 Score: the original's distance (at most ``--cap``, 5 m) if it stands, else -3 m, plus 3x the copy's
 distance (at most the original's) if it stands, else 0.4x that less 1.5 m (plus 0.2 m per
 second it stayed up). A kick stands when the robot is up 2 s after the motion, holding its
@@ -135,7 +137,10 @@ def kick_and_copy(z, world: str, seeds: list[int]) -> dict:
         originals.append(play(agent, "kick", world, offset, seed, 8.0))
     t, _, refs = monitor_view(originals[0][0], get_robot("t1"), world)
     rows = per_cycle(t, refs)
-    copies = [play(_copy_agent(rows), "kick", world, offset, seed, 8.0) for seed in seeds]
+    # The copy stands where the recording shows the ball (as `mimic train` reads it), start
+    # noise included, not where the original's motion file wants it.
+    seen_offset = originals[0][0].ball_offset_m
+    copies = [play(_copy_agent(rows), "kick", world, seen_offset, seed, 8.0) for seed in seeds]
 
     def summary(runs):
         return dict(
