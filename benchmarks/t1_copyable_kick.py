@@ -224,11 +224,17 @@ def search(args) -> None:
             )
 
 
-def validate(args) -> None:
+def _candidate(args) -> tuple[np.ndarray, Path]:
+    """(z, output folder) of the ``--validate`` file, its motion written to the folder."""
     z = np.array(json.loads(Path(args.validate).read_text())["z"])
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     (out / "kick_right.txt").write_text(format_motion(movement(z)))
+    return z, out
+
+
+def validate(args) -> None:
+    z, _ = _candidate(args)
     outcome = kick_and_copy(z, args.world, [0] + list(range(301, 300 + args.seeds)))
     print(_line("original", outcome["original"]))
     print(_line("copy (compensated, balance layer)", outcome["copy"]))
@@ -241,28 +247,20 @@ def black_box(args) -> None:
     docstring), then the original and the copies kick over held-out seeds."""
     import subprocess
 
-    from t1_copy_gain import play
+    from t1_copy_gain import _scene, play
 
     from mimic.agents.keyframe_player import KeyframePlayer
     from mimic.agents.registry import agent_spec
-    from mimic.checks.motions import Perturbation
-    from mimic.episode import Episode, Scene
+    from mimic.episode import Episode
     from mimic.league.world import LeagueWorld
 
-    z = np.array(json.loads(Path(args.validate).read_text())["z"])
-    kick, out = movement(z), Path(args.out)
-    out.mkdir(parents=True, exist_ok=True)
-    (out / "kick_right.txt").write_text(format_motion(kick))
+    z, out = _candidate(args)
+    kick = movement(z)
     mimic = str(Path(sys.executable).with_name("mimic"))
     seen, model, offset = out / "seen.mcap", out / "copy.mimic", tuple(kick.ball_offset_m)
     world = LeagueWorld("t1")
     try:
-        Scene(
-            robot_xy_m=(-8.0 - offset[0], -offset[1]),
-            ball_offset_m=offset,
-            noise=Perturbation().noise(),
-            settle_s=0.2,
-        ).setup(world, np.random.default_rng(0))
+        _scene("kick", "league", offset).setup(world, np.random.default_rng(0))
         recorder = subprocess.Popen(
             [mimic, "record", "--server", world.server.monitor_address, "--team",
              world.config.team, "--player", str(world.config.player), "--seconds", "9",
