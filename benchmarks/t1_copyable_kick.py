@@ -3,7 +3,8 @@ with the copy in the loop.
 
     python benchmarks/t1_copyable_kick.py [--world league|mujoco] [--generations 40]
         [--population 10] [--seeds 3] [--sigma 0.5] [--cap 5] [--start z.json] [--out DIR]
-    python benchmarks/t1_copyable_kick.py --validate DIR/best.json [--seeds 10] [--black-box]
+    python benchmarks/t1_copyable_kick.py --validate DIR/best.json [--seeds 10]
+        [--black-box [--recordings 3] [--epochs 100000]]
 
 A candidate is ``kick_right`` with 26 changes (``PARAMETERS``): the roll and pitch angles of the
 weight shift, the wind-up, the swing and the return, in units of 3 deg, and five keyframe
@@ -20,12 +21,13 @@ second it stayed up). A kick stands when the robot is up 2 s after the motion, h
 stand pose. ``--validate`` replays a result (and writes its motion file to ``--out``): the
 original over seed 0 and seeds 301 on (``--seeds`` in all), and the copy made from its seed-0
 kick over the same seeds. With ``--black-box`` it takes the study's path instead, as a user
-would: the candidate kicks once (seed 0) in a hosted league server while ``mimic record
---server`` records it from the monitor stream; ``mimic train seen.mcap --end E`` learns the
-copy (E: the motion's length and 0.35 s, 3.6 s for the kicks here; compensated, the default;
-the ball offset read from the recording); the original and the model, with and without
-the balance layer, then kick over seeds 301 on (``--seeds`` of them), each placed where its
-own motion wants the ball. ``benchmarks/data/t1_copyable_kick.json``
+would: the candidate kicks (seed 0, and with ``--recordings K`` seeds 1 to K-1 as well, each
+0-3 cycles after the robot is set down) in a hosted league server while ``mimic record
+--server`` records it from the monitor stream; ``mimic train seen0.mcap [seen1.mcap ...
+--merge] --end E --epochs 100000`` learns the copy (E: the motion's length and 0.35 s, 3.6 s
+for the kicks here; compensated, the default; the ball offset read from the recordings); the
+original and the model, with and without the balance layer, then kick over seeds 301 on
+(``--seeds`` of them), each placed where its own motion wants the ball. ``benchmarks/data/t1_copyable_kick.json``
 holds the best candidate found so far (its provenance inside).
 """
 
@@ -253,39 +255,51 @@ def black_box(args) -> None:
     from mimic.agents.registry import agent_spec
     from mimic.episode import Episode
     from mimic.league.world import LeagueWorld
+    from mimic.world.base import CYCLE_S
 
     z, out = _candidate(args)
     kick = movement(z)
     mimic = str(Path(sys.executable).with_name("mimic"))
-    seen, model, offset = out / "seen.mcap", out / "copy.mimic", tuple(kick.ball_offset_m)
-    world = LeagueWorld("t1")
-    try:
-        _scene("kick", "league", offset).setup(world, np.random.default_rng(0))
-        recorder = subprocess.Popen(
-            [mimic, "record", "--server", world.server.monitor_address, "--team",
-             world.config.team, "--player", str(world.config.player), "--seconds", "9",
-             "-o", str(seen), "--force"],
-            stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
-        )  # fmt: skip
-        time.sleep(3.0)  # sync mode: the server waits for our agent while the recorder joins
-        agent = KeyframePlayer(kick)
-        agent.robot = "t1"
-        episode = Episode(world)
-        episode.run(agent, max_s=8.0, abort_on_fall=False)
-        episode.stand_still(max_s=2.0)
-        if recorder.wait(timeout=120) != 0:
-            sys.exit(f"mimic record failed: {recorder.stdout.read().strip()}")
-    finally:
-        world.close()
+    model, offset = out / "copy.mimic", tuple(kick.ball_offset_m)
+    seen = [out / f"seen{k}.mcap" for k in range(args.recordings)]
     # The motion and 0.35 s for the robot to come to rest in its last keyframe (3.6 s for
     # the kicks in benchmarks/data).
     end_s = sum(step.time_s for step in kick.steps) + 0.35
+    for k, path in enumerate(seen):
+        # A team kicks whenever it is ready: after the first kick, 0-3 cycles after its robot
+        # is set down, which decides which half of the cycles the 25 Hz monitor shows.
+        wait_cycles = int(np.random.default_rng([k, 7]).integers(0, 4)) if k else 0
+        world = LeagueWorld("t1")
+        try:
+            _scene("kick", "league", offset).setup(world, np.random.default_rng(k))
+            recorder = subprocess.Popen(
+                [mimic, "record", "--server", world.server.monitor_address, "--team",
+                 world.config.team, "--player", str(world.config.player), "--seconds", "9",
+                 "-o", str(path), "--force"],
+                stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
+            )  # fmt: skip
+            time.sleep(3.0)  # sync mode: the server waits for our agent while the recorder joins
+            agent = KeyframePlayer(kick)
+            agent.robot = "t1"
+            episode = Episode(world)
+            if wait_cycles:
+                episode.stand_still(max_s=wait_cycles * CYCLE_S)
+            episode.run(agent, max_s=8.0, abort_on_fall=False)
+            episode.stand_still(max_s=2.0)
+            if recorder.wait(timeout=120) != 0:
+                sys.exit(f"mimic record failed: {recorder.stdout.read().strip()}")
+        finally:
+            world.close()
+        print(f"recorded seed {k}, kicking {wait_cycles} cycles after the set-down: {path}")
+    merge = ["--merge"] if len(seen) > 1 else []
     trained = subprocess.run(
-        [mimic, "train", str(seen), "--end", f"{end_s:.2f}", "-o", str(model), "--force"],
+        [mimic, "train", *map(str, seen), *merge, "--end", f"{end_s:.2f}", "--epochs",
+         str(args.epochs), "-o", str(model), "--force"],
         capture_output=True, text=True,
     )  # fmt: skip
     if trained.returncode != 0:
         sys.exit(f"mimic train failed: {trained.stderr.strip()}")
+    print("\n".join(line for line in trained.stdout.splitlines() if line.startswith("aligned")))
     seeds = list(range(301, 301 + args.seeds))
     runs = {}
     for label, name in (
@@ -303,6 +317,13 @@ def black_box(args) -> None:
     for label in ("copy +balance", "copy"):
         ratio = np.mean(runs[label]["distance_m"]) / np.mean(runs["original"]["distance_m"])
         print(f"{label} / original distance: {ratio:.2f}")
+    # And as a user replays them: `mimic play` on a server of its own (the ball placed where
+    # each kick wants it, no start noise).
+    for label, name in (("original", str(out / "kick_right.txt")), ("copy", f"{model}+balance")):
+        played = subprocess.run([mimic, "play", name], capture_output=True, text=True)
+        said = (played.stdout.strip() or played.stderr.strip()).splitlines()
+        print(f"mimic play {label}: {said[-1] if said else played.returncode}")
+        runs[f"mimic play {label}"] = said[-1] if said else ""
     (out / "black_box.json").write_text(json.dumps(dict(seeds=seeds, **runs), indent=1))
 
 
@@ -323,12 +344,28 @@ def main() -> None:
         action="store_true",
         help="with --validate: learn the copy through mimic record --server and mimic train",
     )
+    parser.add_argument(
+        "--recordings",
+        type=int,
+        default=1,
+        help="with --black-box: record the kick this many times (seeds 0 on) and learn one "
+        "copy from them all (mimic train --merge)",
+    )
+    parser.add_argument(
+        "--epochs",
+        type=int,
+        default=100_000,
+        help="with --black-box: mimic train --epochs (pooled 50 Hz samples of several "
+        "recordings fit closer with more than the default 25000)",
+    )
     args = parser.parse_args()
     for given in (args.start, args.validate):
         if given and not Path(given).is_file():
             parser.error(f"{given}: no such file; give a best.json the search wrote")
     if args.black_box and not args.validate:
         parser.error("--black-box needs --validate FILE")
+    if args.recordings < 1 or (args.recordings > 1 and not args.black_box):
+        parser.error("--recordings: 1 or more, and only with --black-box")
     if args.validate:
         black_box(args) if args.black_box else validate(args)
     else:

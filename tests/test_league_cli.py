@@ -7,6 +7,7 @@ meet that server. A second test hosts its own server (`mimic play` without --ser
 
 from __future__ import annotations
 
+import re
 import signal
 import subprocess
 import threading
@@ -203,6 +204,7 @@ def test_play_on_a_server_of_its_own(tmp_path):
         app, ["play", "stand", "--seconds", "0.8", "--player", "5", "-o", str(out)]
     )
     assert result.exit_code == 0, result.output
+    assert "ball" not in result.output  # only a kick gets a ball in front of it
     rec = read_recording(out)
     assert rec.recovery.complete and not rec.interrupted
     assert {L.JOINT_STATES, L.JOINT_REFERENCES, L.ENDED, L.ROBOT_DESCRIPTION} <= set(rec.topics)
@@ -215,6 +217,15 @@ def test_play_on_a_server_of_its_own(tmp_path):
         refs.select(T1.joint_names).to_numpy()[-1], T1.stand_pose(), atol=1e-9
     )  # the stand motion takes 0.6 s
     assert np.abs(seen.select(T1.joint_names).to_numpy()[-1] - T1.stand_pose()).max() < 0.1
+
+
+def test_a_kick_on_a_server_of_its_own_gets_a_ball_and_says_how_far_it_went():
+    result = runner.invoke(app, ["play", "kick_right"])
+    assert result.exit_code == 0, result.output
+    went = re.search(r"the ball went ([0-9.]+) m", result.output)
+    assert went is not None, result.output
+    # The shipped T1 kick puts the ball 3 m or more away (test_t1_motions, 10 seeds).
+    assert float(went.group(1)) >= 3.0
 
 
 def test_ctrl_c_ends_a_team_process_with_its_file_finished(match, tmp_path):

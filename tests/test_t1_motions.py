@@ -85,6 +85,16 @@ def test_t1_kick_sends_the_league_ball_3_m_and_stays_standing(name, seed):
     assert _good_kick(outcome), outcome
 
 
+def test_t1_copyable_kick_sends_the_ball_3_m_in_the_league_and_stays_standing():
+    # Found in the league's own server (benchmarks/t1_copyable_kick.py): measured there. Its
+    # search scored distance, not direction: the ball leaves about 30 deg right of straight.
+    from mimic.league.world import LeagueWorld
+
+    with LeagueWorld("t1") as world:
+        outcome = run_kick(load_motion("kick_right_copyable", "t1"), 0, world=world)
+    assert outcome.distance_m >= KICK_TARGET_M and outcome.standing_after, outcome
+
+
 @pytest.mark.slow
 @pytest.mark.parametrize("name", ["kick_right", "kick_left"])
 def test_t1_kick_rate_is_at_least_9_in_10(name):

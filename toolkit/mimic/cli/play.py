@@ -91,6 +91,7 @@ def register(app: typer.Typer) -> None:
                 1,
             )
         how = "the agent finished" if result.end == "done" else "time is up"
+        ball = "" if result.ball_moved_m is None else f"; the ball went {result.ball_moved_m:.2f} m"
         console.print(
-            f"{team} #{player}: {how} after {result.cycles} cycles{saved}", highlight=False
+            f"{team} #{player}: {how} after {result.cycles} cycles{ball}{saved}", highlight=False
         )

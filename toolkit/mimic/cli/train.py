@@ -100,6 +100,15 @@ def register(app: typer.Typer) -> None:
                 "angles (default: as the recording says)."
             ),
         ] = None,
+        merge: Annotated[
+            bool,
+            typer.Option(
+                "--merge",
+                help="Learn one motion from all inputs: recordings of it started on other "
+                "cycles, aligned to the first and pooled (two 25 Hz monitor recordings give "
+                "50 Hz); --start/--end are on the first one's clock.",
+            ),
+        ] = False,
         strict: Annotated[
             bool,
             typer.Option(
@@ -115,7 +124,7 @@ def register(app: typer.Typer) -> None:
         save_old: Annotated[Path | None, SAVE_OLD] = None,
         force: Annotated[bool, FORCE] = False,
     ) -> None:
-        """Learn motions as neural networks (one model per input)."""
+        """Learn motions as neural networks (one model per input, or one from all with --merge)."""
         from mimic.errors import DatasetError, MimicError
         from mimic.files import check_outputs
         from mimic.learn.checks import fit_warnings, input_warnings
@@ -128,15 +137,37 @@ def register(app: typer.Typer) -> None:
             config = TrainConfig(get_preset(preset), seed=seed, epochs=epochs)
         except ValueError as err:
             raise MimicError(str(err)) from None
-        several = len(inputs) > 1
+        several = len(inputs) > 1 and not merge
         if several and out.suffix == SUFFIX:
             raise MimicError(
-                f"{len(inputs)} inputs: -o must be a folder (one model each), not {out}"
+                f"{len(inputs)} inputs: -o must be a folder (one model each), not {out}; "
+                "or pass --merge to learn one motion from them all"
             )
-        datasets = [
-            training_dataset(p, topic, target, start_s=start, end_s=end, period=period)
-            for p in inputs
-        ]
+        if merge:
+            from mimic.learn.merge import merged_training_dataset
+
+            if period is not None:
+                raise MimicError(
+                    "--merge pools one-shot motions; train a cyclic one from one recording "
+                    "with --period"
+                )
+            if out.suffix != SUFFIX:
+                raise MimicError(f"--merge writes one model: -o must end in {SUFFIX}, not {out}")
+            merged, alignments = merged_training_dataset(
+                inputs, topic, target, start_s=start, end_s=end
+            )
+            datasets = [merged]
+            for p, a in zip(inputs[1:], alignments[1:]):
+                console.print(
+                    f"aligned {p.name}: {a.shift_s:+.2f} s on {inputs[0].name}'s clock "
+                    f"(angles {a.rms_rad:.4f} rad rms apart)",
+                    highlight=False,
+                )
+        else:
+            datasets = [
+                training_dataset(p, topic, target, start_s=start, end_s=end, period=period)
+                for p in inputs
+            ]
         for warning in (w for d in datasets for w in input_warnings(d)):
             if strict:
                 raise DatasetError(f"{warning} (--strict refuses such input)")

@@ -8,7 +8,9 @@ else's server it plays from wherever the robot is, as a team process does.
 
 With an output file it records what the player knew: ``/joint_references`` (our agents),
 ``/joint_states`` (the angles it perceived), ``/ended``, the robot's URDF and metadata (world
-``league``). Ctrl-C or a server that stops end the run with the file finished.
+``league``). Ctrl-C or a server that stops end the run with the file finished. A kick on a
+server of its own gets a ball where the kick wants it, and the result says how far it went
+once it rests (the robot holding its last pose meanwhile, at most ``BALL_ROLL_OUT_S``).
 """
 
 from __future__ import annotations
@@ -36,6 +38,9 @@ __all__ = ["play", "PlayResult", "PlayRecorder", "MAX_PLAY_S"]
 MAX_PLAY_S = 60.0
 #: Where a hosted server's robot starts (field frame) [m].
 HOSTED_START_XY_M = (-1.0, 0.0)
+#: After a kick on a hosted server: the longest wait for the ball to come to rest [s], and
+#: the speed that counts as rest [m/s].
+BALL_ROLL_OUT_S, BALL_AT_REST_M_S = 3.0, 0.05
 _NS_PER_CYCLE = int(round(CYCLE_S * L.NS_PER_S))
 
 
@@ -48,6 +53,9 @@ class PlayResult:
     cycles: int
     duration_s: float
     path: Path | None
+    # How far the ball went [m]: a kick on a hosted server, which places the ball where the
+    # kick wants it; None otherwise.
+    ball_moved_m: float | None = None
 
     @property
     def interrupted(self) -> bool:
@@ -114,9 +122,13 @@ def play(
         SigintFlag() as sigint,
         LeagueWorld(robot, agent_address=agent_address, config=config) as world,
     ):
+        ball_offset = kick_ball_offset_m(agent) if world.server is not None else None
         if world.server is not None:
             Scene(
-                robot_xy_m=HOSTED_START_XY_M, posture=agent.start_posture, settle_s=settle_s
+                robot_xy_m=HOSTED_START_XY_M,
+                posture=agent.start_posture,
+                settle_s=settle_s,
+                ball_offset_m=ball_offset,
             ).setup(world, np.random.default_rng(0))
         elif agent.start_posture == "standing" and settle_s > 0:
             stand = np.asarray(world.robot.stand_pose_rad)
@@ -126,6 +138,7 @@ def play(
                 max_s=settle_s,
                 stop=lambda w: sigint.raised,
             )
+        ball_start = None if ball_offset is None else world.ball_pos_m()[:2].copy()
         writer = (
             None
             if out_path is None
@@ -160,7 +173,30 @@ def play(
                     end=end,
                 )
         duration = recorder.t_last_s if recorder is not None else cycles * CYCLE_S
-        return PlayResult(end, cycles, duration, None if out_path is None else Path(out_path))
+        moved = None
+        if ball_start is not None and end in ("done", "timeout"):
+            # The robot holds its last pose while the ball rolls out (not recorded).
+            last = agent.reference_rad
+            if last is not None:
+                run(
+                    world,
+                    HoldPose(last, world.robot.name),
+                    max_s=BALL_ROLL_OUT_S,
+                    stop=lambda w: sigint.raised or w.ball_speed_m_s() < BALL_AT_REST_M_S,
+                )
+            moved = float(np.hypot(*(world.ball_pos_m()[:2] - ball_start)))
+        return PlayResult(
+            end, cycles, duration, None if out_path is None else Path(out_path), moved
+        )
+
+
+def kick_ball_offset_m(agent: Agent) -> tuple[float, float] | None:
+    """Where ``agent``'s kick wants the ball (x forward, y left of the torso [m]), or None
+    (not a kick): a model's, a balance layer's or a keyframe movement's ``ball_offset``."""
+    offset = getattr(agent, "ball_offset_m", None)
+    if offset is None:
+        offset = getattr(getattr(agent, "movement", None), "ball_offset_m", None)
+    return None if offset is None else (float(offset[0]), float(offset[1]))
 
 
 def _info(agent: Agent, world: LeagueWorld, agent_address: str | None) -> L.RecordingInfo:
