@@ -80,6 +80,7 @@ def test_a_cut_is_on_the_first_recordings_clock(halves):
     assert merged.time_s[0] == 0.0 and merged.time_s[-1] == pytest.approx(0.8)
     on_full = (full.time_s >= 0.4 - 1e-9) & (full.time_s <= 1.2 + 1e-9)
     np.testing.assert_allclose(merged.angles_rad, full.angles_rad[on_full], atol=1e-6)
+    assert merged.targets[-1, -1] == 1.0 and merged.targets[:-2, -1].sum() == 0
 
 
 def _odd_cycle_error(model_path: Path, full) -> float:

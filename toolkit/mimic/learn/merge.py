@@ -142,11 +142,10 @@ def merged_training_dataset(
     time_s = np.concatenate([part.time_s + offset for part, offset in parts])
     targets = np.concatenate([part.targets for part, _ in parts])
     order = np.argsort(time_s, kind="stable")
-    time_s, targets = time_s[order], targets[order]
-    keep = time_s >= -1e-9
-    time_s, targets = time_s[keep] - time_s[keep][0], targets[keep]
+    first_s = float(time_s[order[0]])  # every offset is >= 0: the cuts start at or after lo
+    time_s, targets = time_s[order] - first_s, targets[order]
     # The motion has ended from the earliest of the recordings' last samples on.
-    ended_s = min(part.time_s[-1] + offset for part, offset in parts) - time_s[0]
+    ended_s = min(part.time_s[-1] + offset for part, offset in parts) - first_s
     targets[:, -1] = (time_s >= ended_s - 1e-9).astype(targets.dtype)
     base = parts[0][0]
     metadata = {
