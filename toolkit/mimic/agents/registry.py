@@ -34,6 +34,7 @@ __all__ = [
     "BEHAVIOURS",
     "ROBOT_BEHAVIOURS",
     "BALANCE_SUFFIX",
+    "kick_ball_offset_m",
 ]
 
 #: Behaviour name -> "module:factory" (a callable with no arguments returning an Agent).
@@ -127,10 +128,7 @@ class AgentSpec:
 
     def ball_offset_m(self) -> tuple[float, float]:
         """Where the kick wants the ball, relative to the torso (x forward, y left) [m]."""
-        offset = getattr(self.build(), "ball_offset_m", None)
-        if offset is None:
-            agent = self.build()
-            offset = getattr(getattr(agent, "movement", None), "ball_offset_m", None)
+        offset = kick_ball_offset_m(self.build())
         if offset is None:
             raise MimicError(
                 f"{self.label}: no ball offset known for this kick; a kick motion "
@@ -203,3 +201,12 @@ def make_agent(text: str, *, robot: str = DEFAULT_ROBOT) -> Agent:
     agent = agent_spec(text, robot=robot).build()
     agent.check_robot(get_robot(robot))
     return agent
+
+
+def kick_ball_offset_m(agent) -> tuple[float, float] | None:
+    """Where ``agent``'s kick wants the ball (x forward, y left of the torso [m]), or None
+    (not a kick): a model's, a balance layer's or a keyframe movement's ``ball_offset``."""
+    offset = getattr(agent, "ball_offset_m", None)
+    if offset is None:
+        offset = getattr(getattr(agent, "movement", None), "ball_offset_m", None)
+    return None if offset is None else (float(offset[0]), float(offset[1]))

@@ -122,6 +122,8 @@ def play(
         SigintFlag() as sigint,
         LeagueWorld(robot, agent_address=agent_address, config=config) as world,
     ):
+        from mimic.agents.registry import kick_ball_offset_m
+
         ball_offset = kick_ball_offset_m(agent) if world.server is not None else None
         if world.server is not None:
             Scene(
@@ -188,15 +190,6 @@ def play(
         return PlayResult(
             end, cycles, duration, None if out_path is None else Path(out_path), moved
         )
-
-
-def kick_ball_offset_m(agent: Agent) -> tuple[float, float] | None:
-    """Where ``agent``'s kick wants the ball (x forward, y left of the torso [m]), or None
-    (not a kick): a model's, a balance layer's or a keyframe movement's ``ball_offset``."""
-    offset = getattr(agent, "ball_offset_m", None)
-    if offset is None:
-        offset = getattr(getattr(agent, "movement", None), "ball_offset_m", None)
-    return None if offset is None else (float(offset[0]), float(offset[1]))
 
 
 def _info(agent: Agent, world: LeagueWorld, agent_address: str | None) -> L.RecordingInfo:
