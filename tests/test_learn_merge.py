@@ -106,6 +106,28 @@ def test_train_merge_learns_the_cycles_one_recording_lacks(halves, tmp_path):
     assert _odd_cycle_error(merged, full) < 0.75 * _odd_cycle_error(alone, full)
 
 
+def test_a_recording_that_strays_from_the_others_is_left_out(halves, tmp_path):
+    full, even, odd = halves
+    info = read_recording(SHIPPED).info
+    t, q = full.time_s[::2], full.angles_rad[::2].copy()
+    again = _write(tmp_path / "again.mcap", info, t, q + 0.005)  # the kick once more
+    q[t > 1.5] += 0.3  # the robot fell: every joint elsewhere from 1.5 s on
+    fell = _write(tmp_path / "fell.mcap", info, t, q)
+    merged, alignments = merged_training_dataset([even, odd, fell, again], L.JOINT_STATES)
+    assert [a.kept for a in alignments] == [True, True, False, True]
+    assert merged.metadata["merge_left_out"] == [str(fell)]
+    assert str(fell) not in merged.metadata["merged_from"]
+    with pytest.raises(DatasetError, match="Put a recording of the motion first"):
+        merged_training_dataset([fell, even, odd, again], L.JOINT_STATES)
+    res = runner.invoke(
+        app,
+        ["train", str(even), str(odd), str(fell), "--merge", "--epochs", "200",
+         "-o", str(tmp_path / "m.mimic")],
+    )  # fmt: skip
+    assert res.exit_code == 0, res.output
+    assert "left out" in res.output and "fell.mcap" in res.output
+
+
 def test_recordings_of_another_robot_are_refused(halves, tmp_path):
     _, even, _ = halves
     other = _write(

@@ -163,6 +163,14 @@ def register(app: typer.Typer) -> None:
                     f"(angles {a.rms_rad:.4f} rad rms apart)",
                     highlight=False,
                 )
+            typical = [a.spread_rad for a in alignments if a.kept]
+            for p, a in zip(inputs, alignments):
+                if not a.kept:
+                    warn(
+                        f"left out {p}: its angles differ from the closest other "
+                        f"recording's by {a.spread_rad:.3f} rad rms, the others' by "
+                        f"{min(typical):.3f}-{max(typical):.3f} (a fall, or another motion?)"
+                    )
         else:
             datasets = [
                 training_dataset(p, topic, target, start_s=start, end_s=end, period=period)

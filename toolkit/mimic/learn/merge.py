@@ -14,7 +14,8 @@ shift (samples of every world lie on its 20 ms cycles), and the shift with the s
 squared difference over at least half of the shorter recording wins. Each recording is then
 made into training targets on its own (``training_dataset``: compensation needs its own
 sample times), cut at the first recording's ``start_s``/``end_s`` moved by its shift, and the
-samples are pooled on the first recording's clock.
+samples are pooled on the first recording's clock. Of three or more recordings, one whose
+angles stray from the others' (a robot that fell during its kick) is left out.
 """
 
 from __future__ import annotations
@@ -33,6 +34,11 @@ __all__ = ["Alignment", "align_shift_s", "merged_training_dataset"]
 
 #: The least overlap of two recordings, as a share of the shorter, for a shift to count.
 MIN_OVERLAP_SHARE = 0.5
+#: Of three or more recordings, one whose angles differ from the closest other one's (rms)
+#: by more than OUTLIER_FACTOR times what is typical of the set, and by more than
+#: OUTLIER_FLOOR_RAD [rad], is left out: a robot that fell, or another motion (our T1 kick:
+#: 0.007-0.013 rad to the closest other kick, 0.042 rad for one whose robot fell).
+OUTLIER_FACTOR, OUTLIER_FLOOR_RAD = 2.5, 0.02
 
 
 @dataclass(frozen=True)
@@ -43,10 +49,29 @@ class Alignment:
         shift_s: recording time = first recording's time + ``shift_s`` [s] (a whole number of
             cycles).
         rms_rad: root mean square difference of the observed angles at that shift [rad].
+        spread_rad: with three or more recordings, this one's rms difference to the closest
+            other one, each pair aligned on its own [rad] (0: not measured).
+        kept: False when the recording was left out (``OUTLIER_FACTOR``).
     """
 
     shift_s: float
     rms_rad: float
+    spread_rad: float = 0.0
+    kept: bool = True
+
+
+def _rms_at(reference: Dataset, other: Dataset, shift_s: float, need_s: float) -> float | None:
+    """RMS difference [rad] of ``other``'s angles from ``reference``'s (linearly interpolated)
+    with ``other`` shifted by ``shift_s`` [s]; None when they overlap less than ``need_s``."""
+    t_ref, q_ref = reference.time_s, reference.angles_rad
+    on_ref = other.time_s - shift_s  # other's samples on the reference's clock
+    inside = (on_ref >= t_ref[0] - 1e-9) & (on_ref <= t_ref[-1] + 1e-9)
+    if inside.sum() < 3 or on_ref[inside][-1] - on_ref[inside][0] < need_s - 1e-9:
+        return None
+    ref_at = np.stack(
+        [np.interp(on_ref[inside], t_ref, q_ref[:, j]) for j in range(q_ref.shape[1])], 1
+    )
+    return float(np.sqrt(np.mean((other.angles_rad[inside] - ref_at) ** 2)))
 
 
 def align_shift_s(reference: Dataset, other: Dataset, *, grid_s: float = CYCLE_S) -> Alignment:
@@ -59,25 +84,15 @@ def align_shift_s(reference: Dataset, other: Dataset, *, grid_s: float = CYCLE_S
     Raises:
         DatasetError: the two never overlap enough (too short, or not the same robot).
     """
-    t_ref, q_ref = reference.time_s, reference.angles_rad
-    t, q = other.time_s, other.angles_rad
-    span = min(t_ref[-1] - t_ref[0], t[-1] - t[0])
-    need = MIN_OVERLAP_SHARE * span
+    t_ref, t = reference.time_s, other.time_s
+    need = MIN_OVERLAP_SHARE * min(t_ref[-1] - t_ref[0], t[-1] - t[0])
     lo = int(np.floor((t[0] - t_ref[-1]) / grid_s))
     hi = int(np.ceil((t[-1] - t_ref[0]) / grid_s))
     best: Alignment | None = None
     for k in range(lo, hi + 1):
-        shift = k * grid_s
-        on_ref = t - shift  # other's samples on the reference's clock
-        inside = (on_ref >= t_ref[0] - 1e-9) & (on_ref <= t_ref[-1] + 1e-9)
-        if inside.sum() < 3 or on_ref[inside][-1] - on_ref[inside][0] < need - 1e-9:
-            continue
-        ref_at = np.stack(
-            [np.interp(on_ref[inside], t_ref, q_ref[:, j]) for j in range(q_ref.shape[1])], 1
-        )
-        rms = float(np.sqrt(np.mean((q[inside] - ref_at) ** 2)))
-        if best is None or rms < best.rms_rad - 1e-12:
-            best = Alignment(round(shift, 6), rms)
+        rms = _rms_at(reference, other, k * grid_s, need)
+        if rms is not None and (best is None or rms < best.rms_rad - 1e-12):
+            best = Alignment(round(k * grid_s, 6), rms)
     if best is None:
         raise DatasetError(
             f"{other.metadata.get('source', 'a recording')} never overlaps "
@@ -85,6 +100,26 @@ def align_shift_s(reference: Dataset, other: Dataset, *, grid_s: float = CYCLE_S
             "shorter one; merge recordings of the same motion"
         )
     return best
+
+
+def _leave_out_strays(seen: list[Dataset], alignments: list[Alignment]) -> list[Alignment]:
+    """With three or more recordings: each one's spread (rms difference to the closest other
+    one, each pair aligned on its own, so that a stray first recording does not skew the
+    rest), and those whose spread exceeds ``OUTLIER_FACTOR`` times the median spread (and
+    ``OUTLIER_FLOOR_RAD``) marked as left out."""
+    n = len(seen)
+    if n < 3:
+        return alignments
+    rms = np.zeros((n, n))
+    for i in range(n):
+        for j in range(i + 1, n):
+            rms[i, j] = rms[j, i] = align_shift_s(seen[i], seen[j]).rms_rad
+    spreads = [float(np.delete(rms[i], i).min()) for i in range(n)]
+    limit = max(OUTLIER_FACTOR * float(np.median(spreads)), OUTLIER_FLOOR_RAD)
+    return [
+        replace(a, spread_rad=round(spread, 6), kept=spread <= limit)
+        for a, spread in zip(alignments, spreads)
+    ]
 
 
 def merged_training_dataset(
@@ -100,11 +135,13 @@ def merged_training_dataset(
 
     ``start_s``/``end_s`` [s from the first recording's first sample] cut the motion as
     ``training_dataset`` does; ``topic`` and ``target`` as there. The ball offset of a kick is
-    the mean over the recordings that show one.
+    the mean over the recordings that show one. Of three or more recordings, one that differs
+    from the others (``OUTLIER_FACTOR``) is left out; its ``Alignment`` says so.
 
     Raises:
         DatasetError: fewer than two recordings; recordings of different robots or of a
-            cyclic motion; a recording that does not overlap the first; a cut outside one.
+            cyclic motion; a recording that does not overlap the first; a cut outside one;
+            a first recording that differs from the others.
     """
     from mimic.learn.train import training_dataset
 
@@ -124,10 +161,19 @@ def merged_training_dataset(
                 "from one recording with --period)"
             )
     alignments = [Alignment(0.0, 0.0)] + [align_shift_s(first, d) for d in seen[1:]]
+    alignments = _leave_out_strays(seen, alignments)
+    if not alignments[0].kept:
+        raise DatasetError(
+            f"{paths[0]} differs from the other recordings ({alignments[0].spread_rad:.3f} rad "
+            "rms, more than they differ among themselves): a fall, or another motion? Put a "
+            "recording of the motion first, its clock is the model's"
+        )
     lo = 0.0 if start_s is None else float(start_s)
     hi = float(first.time_s[-1]) if end_s is None else float(end_s)
     parts = []
     for p, d, a in zip(paths, seen, alignments):
+        if not a.kept:
+            continue
         last = float(d.time_s[-1])
         cut_lo, cut_hi = max(0.0, lo + a.shift_s), min(last, hi + a.shift_s)
         if cut_hi - cut_lo < 2 * CYCLE_S:
@@ -150,9 +196,12 @@ def merged_training_dataset(
     base = parts[0][0]
     metadata = {
         **base.metadata,
-        "merged_from": [str(p) for p in paths],
-        "merge_shift_s": [a.shift_s for a in alignments],
+        "merged_from": [str(p) for p, a in zip(paths, alignments) if a.kept],
+        "merge_shift_s": [a.shift_s for a in alignments if a.kept],
     }
+    left_out = [str(p) for p, a in zip(paths, alignments) if not a.kept]
+    if left_out:
+        metadata["merge_left_out"] = left_out
     offsets = [
         part.metadata["ball_offset_m"] for part, _ in parts if "ball_offset_m" in part.metadata
     ]
