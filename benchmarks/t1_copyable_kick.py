@@ -27,8 +27,10 @@ would: the candidate kicks (seed 0, and with ``--recordings K`` seeds 1 to K-1 a
 --merge] --end E --epochs 100000`` learns the copy (E: the motion's length and 0.35 s, 3.6 s
 for the kicks here; compensated, the default; the ball offset read from the recordings); the
 original and the model, with and without the balance layer, then kick over seeds 301 on
-(``--seeds`` of them), each placed where its own motion wants the ball. ``benchmarks/data/t1_copyable_kick.json``
-holds the best candidate found so far (its provenance inside).
+(``--seeds`` of them), each placed where its own motion wants the ball, and once each through
+``mimic play`` on a server of its own. ``benchmarks/data/t1_copyable_kick.json`` holds the best
+candidate found so far (its provenance inside); it is shipped as the T1's
+``kick_right_copyable``.
 """
 
 from __future__ import annotations
@@ -299,7 +301,8 @@ def black_box(args) -> None:
     )  # fmt: skip
     if trained.returncode != 0:
         sys.exit(f"mimic train failed: {trained.stderr.strip()}")
-    print("\n".join(line for line in trained.stdout.splitlines() if line.startswith("aligned")))
+    said = trained.stdout.splitlines() + trained.stderr.splitlines()
+    print("\n".join(line for line in said if line.startswith(("aligned", "warning: left out"))))
     seeds = list(range(301, 301 + args.seeds))
     runs = {}
     for label, name in (
