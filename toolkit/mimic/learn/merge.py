@@ -22,6 +22,7 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass, replace
+from itertools import combinations
 from pathlib import Path
 
 import numpy as np
@@ -102,18 +103,20 @@ def align_shift_s(reference: Dataset, other: Dataset, *, grid_s: float = CYCLE_S
     return best
 
 
-def _leave_out_strays(seen: list[Dataset], alignments: list[Alignment]) -> list[Alignment]:
-    """With three or more recordings: each one's spread (rms difference to the closest other
-    one, each pair aligned on its own, so that a stray first recording does not skew the
-    rest), and those whose spread exceeds ``OUTLIER_FACTOR`` times the median spread (and
-    ``OUTLIER_FLOOR_RAD``) marked as left out."""
+def _align_all(seen: list[Dataset]) -> list[Alignment]:
+    """Every recording on the first one's clock. With three or more, every pair is aligned
+    on its own (so a stray first recording does not skew the rest) and each one's spread is
+    its rms difference to the closest other; a spread above ``OUTLIER_FACTOR`` times the
+    median spread (and ``OUTLIER_FLOOR_RAD``) marks a recording as left out."""
     n = len(seen)
+    wanted = combinations(range(n), 2) if n >= 3 else [(0, 1)]
+    found = {(i, j): align_shift_s(seen[i], seen[j]) for i, j in wanted}
+    alignments = [Alignment(0.0, 0.0)] + [found[(0, j)] for j in range(1, n)]
     if n < 3:
         return alignments
     rms = np.zeros((n, n))
-    for i in range(n):
-        for j in range(i + 1, n):
-            rms[i, j] = rms[j, i] = align_shift_s(seen[i], seen[j]).rms_rad
+    for (i, j), a in found.items():
+        rms[i, j] = rms[j, i] = a.rms_rad
     spreads = [float(np.delete(rms[i], i).min()) for i in range(n)]
     limit = max(OUTLIER_FACTOR * float(np.median(spreads)), OUTLIER_FLOOR_RAD)
     return [
@@ -160,8 +163,7 @@ def merged_training_dataset(
                 f"{p} holds a cyclic motion; --merge pools one-shot motions (train a walk "
                 "from one recording with --period)"
             )
-    alignments = [Alignment(0.0, 0.0)] + [align_shift_s(first, d) for d in seen[1:]]
-    alignments = _leave_out_strays(seen, alignments)
+    alignments = _align_all(seen)
     if not alignments[0].kept:
         raise DatasetError(
             f"{paths[0]} differs from the other recordings ({alignments[0].spread_rad:.3f} rad "
