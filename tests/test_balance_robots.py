@@ -8,7 +8,13 @@ import math
 import numpy as np
 import pytest
 
-from mimic.agents.balance import BalancedAgent, BalanceGains, foot_yaw_shift_rad, leg_joints
+from mimic.agents.balance import (
+    BalancedAgent,
+    BalanceGains,
+    default_gains,
+    foot_yaw_shift_rad,
+    leg_joints,
+)
 from mimic.agents.hold import HoldPose
 from mimic.episode.run import run
 from mimic.episode.scene import Scene
@@ -74,3 +80,20 @@ def test_the_t1_takes_harder_pushes_with_the_layer_and_none_with_its_signs_flipp
     # Measured: 8 of 22 pushes plain, 13 with the layer, 0 with the signs flipped.
     assert steadied >= plain + 3, (plain, steadied)
     assert flipped <= 1 < plain, (plain, flipped)
+
+
+def test_a_kick_gets_its_robots_one_shot_gains_and_a_walk_its_walk_gains():
+    # The T1's kick copies fall sideways over the support foot with the walk's roll gain
+    # (benchmarks/t1_copyable_kick.py --black-box: 16 of 20 standing, 18 of 20 with the
+    # kick's); the NAO has one set for both.
+    kick = HoldPose(np.asarray(T1.stand_pose_rad), "t1")
+    walk = HoldPose(np.asarray(T1.stand_pose_rad), "t1")
+    walk.period_s = 0.84
+    kick_gains, walk_gains = BalancedAgent(kick).gains, BalancedAgent(walk).gains
+    assert kick_gains == default_gains("t1", one_shot=True)
+    assert walk_gains == default_gains("t1")
+    assert kick_gains.roll > walk_gains.roll
+    assert (kick_gains.pitch, kick_gains.limit_rad) == (walk_gains.pitch, walk_gains.limit_rad)
+    assert default_gains("nao", one_shot=True) == default_gains("nao") == BalanceGains()
+    # Gains handed in win over both.
+    assert BalancedAgent(kick, BalanceGains(roll=0.1)).gains.roll == 0.1
