@@ -251,17 +251,14 @@ def black_box(args) -> None:
     docstring), then the original and the copies kick over held-out seeds."""
     import subprocess
 
+    from league_record import MIMIC, mimic, record_black_box
     from t1_copy_gain import _scene, play
 
     from mimic.agents.keyframe_player import KeyframePlayer
     from mimic.agents.registry import agent_spec
-    from mimic.episode import Episode
-    from mimic.league.world import LeagueWorld
-    from mimic.world.base import CYCLE_S
 
     z, out = _candidate(args)
     kick = movement(z)
-    mimic = str(Path(sys.executable).with_name("mimic"))
     model, offset = out / "copy.mimic", tuple(kick.ball_offset_m)
     seen = [out / f"seen{k}.mcap" for k in range(args.recordings)]
     # The motion and 0.35 s for the robot to come to rest in its last keyframe (3.6 s for
@@ -271,37 +268,15 @@ def black_box(args) -> None:
         # A team kicks whenever it is ready: after the first kick, 0-3 cycles after its robot
         # is set down, which decides which half of the cycles the 25 Hz monitor shows.
         wait_cycles = int(np.random.default_rng([k, 7]).integers(0, 4)) if k else 0
-        world = LeagueWorld("t1")
-        try:
-            _scene("kick", "league", offset).setup(world, np.random.default_rng(k))
-            recorder = subprocess.Popen(
-                [mimic, "record", "--server", world.server.monitor_address, "--team",
-                 world.config.team, "--player", str(world.config.player), "--seconds", "9",
-                 "-o", str(path), "--force"],
-                stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
-            )  # fmt: skip
-            time.sleep(3.0)  # sync mode: the server waits for our agent while the recorder joins
-            agent = KeyframePlayer(kick)
-            agent.robot = "t1"
-            episode = Episode(world)
-            if wait_cycles:
-                episode.stand_still(max_s=wait_cycles * CYCLE_S)
-            episode.run(agent, max_s=8.0, abort_on_fall=False)
-            episode.stand_still(max_s=2.0)
-            if recorder.wait(timeout=120) != 0:
-                sys.exit(f"mimic record failed: {recorder.stdout.read().strip()}")
-        finally:
-            world.close()
+        agent = KeyframePlayer(kick)
+        agent.robot = "t1"
+        record_black_box(agent, _scene("kick", "league", offset), path, k, 8.0, wait_cycles)
         print(f"recorded seed {k}, kicking {wait_cycles} cycles after the set-down: {path}")
     merge = ["--merge"] if len(seen) > 1 else []
-    trained = subprocess.run(
-        [mimic, "train", *map(str, seen), *merge, "--end", f"{end_s:.2f}", "--epochs",
-         str(args.epochs), "-o", str(model), "--force"],
-        capture_output=True, text=True,
+    said = mimic(
+        "train", *map(str, seen), *merge, "--end", f"{end_s:.2f}", "--epochs",
+        str(args.epochs), "-o", str(model), "--force",
     )  # fmt: skip
-    if trained.returncode != 0:
-        sys.exit(f"mimic train failed: {trained.stderr.strip()}")
-    said = trained.stdout.splitlines() + trained.stderr.splitlines()
     print("\n".join(line for line in said if line.startswith(("aligned", "warning: left out"))))
     seeds = list(range(301, 301 + args.seeds))
     runs = {}
@@ -323,7 +298,7 @@ def black_box(args) -> None:
     # And as a user replays them: `mimic play` on a server of its own (the ball placed where
     # each kick wants it, no start noise).
     for label, name in (("original", str(out / "kick_right.txt")), ("copy", f"{model}+balance")):
-        played = subprocess.run([mimic, "play", name], capture_output=True, text=True)
+        played = subprocess.run([MIMIC, "play", name], capture_output=True, text=True)
         said = (played.stdout.strip() or played.stderr.strip()).splitlines()
         print(f"mimic play {label}: {said[-1] if said else played.returncode}")
         runs[f"mimic play {label}"] = said[-1] if said else ""

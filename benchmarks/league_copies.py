@@ -1,0 +1,112 @@
+"""The study's comparisons in the league: the other team's T1 walk and kick, seen only through
+the monitor stream, learned black-box, and tried against the originals in league trials.
+
+    python benchmarks/league_copies.py [--out DIR] [--only walk|kick] [--runs 10]
+        [--minutes 10] [--workers 2] [--kick-recordings 3]
+
+Each step is what a user would run (``league_record.record_black_box``, then the ``mimic``
+command line):
+
+1. The other team plays on a server mimic hosts while ``mimic record --server`` records it:
+   the walk 12 s from a standing start (seed 0), the kick placed behind the ball (seeds 0 to
+   ``--kick-recordings`` - 1, each starting 0-3 cycles after its robot is set down).
+2. ``mimic train``: the walk's steady part as one cycle (``--start 4 --period auto``), the
+   kick from its start to 0.35 s after it ended (``--merge`` of its recordings); each as
+   reached angles (``--target reached``, the study's method) and compensated (the default).
+3. ``mimic trial walk ... --world league --runs R`` and ``mimic trial kick ... --world league
+   --minutes M --workers W`` compare the original with every copy, with and without the
+   balance layer; the tables are printed and written to ``DIR/walk.parquet`` and
+   ``DIR/kick.parquet``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+
+sys.path.insert(0, str(Path(__file__).parent))
+from league_record import MIMIC, mimic, record_black_box  # noqa: E402
+from t1_copy_gain import _scene  # noqa: E402
+
+from mimic.agents.registry import agent_spec  # noqa: E402
+from mimic.learn.model_file import load_model  # noqa: E402
+
+#: How long the walk is recorded, and where its steady part starts [s].
+WALK_RECORD_S, WALK_START_S = 12.0, 4.0
+#: After the kick, the robot comes to rest in its stand [s]: part of what is learned.
+KICK_REST_S = 0.35
+
+
+def learn_walk(out: Path) -> list[str]:
+    """Record the other team's walk and learn its copies; the trial's variants."""
+    seen = out / "walk_seen.mcap"
+    agent = agent_spec("other-team-walk", robot="t1").build()
+    record_black_box(agent, _scene("walk", "league", (3.0, 3.0)), seen, 0, WALK_RECORD_S)
+    print(f"recorded the other team's walk: {seen}")
+    for target, model in (("reached", "walk_reached.mimic"), ("compensated", "walk.mimic")):
+        mimic(
+            "train", str(seen), "--start", str(WALK_START_S), "--period", "auto", "--target",
+            target, "-o", str(out / model), "--force",
+        )  # fmt: skip
+    print(f"the walk's period, found in its angles: {load_model(out / model).period_s:.3f} s")
+    models = [str(out / m) for m in ("walk_reached.mimic", "walk.mimic")]
+    return ["other-team-walk", *(v for m in models for v in (m, f"{m}+balance"))]
+
+
+def learn_kick(out: Path, recordings: int) -> list[str]:
+    """Record the other team's kick and learn its copies; the trial's variants."""
+    spec = agent_spec("other-team-kick", robot="t1")
+    seen = [out / f"kick_seen{k}.mcap" for k in range(recordings)]
+    played_s = []
+    for k, path in enumerate(seen):
+        wait_cycles = int(np.random.default_rng([k, 7]).integers(0, 4)) if k else 0
+        scene = _scene("kick", "league", spec.ball_offset_m())
+        played_s.append(record_black_box(spec.build(), scene, path, k, 8.0, wait_cycles))
+        print(f"recorded the other team's kick, seed {k}: {path} ({played_s[-1]:.2f} s)")
+    end_s = played_s[0] + KICK_REST_S
+    merge = ["--merge"] if recordings > 1 else []
+    for target, model in (("reached", "kick_reached.mimic"), ("compensated", "kick.mimic")):
+        said = mimic(
+            "train", *map(str, seen), *merge, "--end", f"{end_s:.2f}", "--target", target,
+            "-o", str(out / model), "--force",
+        )  # fmt: skip
+    print("\n".join(line for line in said if line.startswith(("aligned", "warning: left out"))))
+    models = [str(out / m) for m in ("kick_reached.mimic", "kick.mimic")]
+    return ["other-team-kick", *(v for m in models for v in (m, f"{m}+balance"))]
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("--out", type=Path, default=Path("league_copies"))
+    parser.add_argument("--only", choices=("walk", "kick"))
+    parser.add_argument("--runs", type=int, default=10, help="walk trial: runs per variant")
+    parser.add_argument("--minutes", type=float, default=10.0, help="kick trial: per variant")
+    parser.add_argument("--workers", type=int, default=2)
+    parser.add_argument("--kick-recordings", type=int, default=3)
+    args = parser.parse_args()
+    if args.runs < 1 or args.minutes <= 0 or args.workers < 1 or args.kick_recordings < 1:
+        sys.exit("--runs, --workers and --kick-recordings must be >= 1 and --minutes > 0")
+    args.out.mkdir(parents=True, exist_ok=True)
+    common = ["--world", "league", "--robot", "t1", "--workers", str(args.workers), "--force"]
+    if args.only in (None, "walk"):
+        variants = learn_walk(args.out)
+        subprocess.run(
+            [MIMIC, "trial", "walk", "--compare", *variants, "--runs", str(args.runs), *common,
+             "-o", str(args.out / "walk.parquet")],
+            check=True,
+        )  # fmt: skip
+    if args.only in (None, "kick"):
+        variants = learn_kick(args.out, args.kick_recordings)
+        subprocess.run(
+            [MIMIC, "trial", "kick", "--compare", *variants, "--minutes", str(args.minutes),
+             *common, "-o", str(args.out / "kick.parquet")],
+            check=True,
+        )  # fmt: skip
+
+
+if __name__ == "__main__":
+    main()
