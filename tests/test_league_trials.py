@@ -27,6 +27,7 @@ from mimic.errors import MimicError
 from mimic.league.server import LeagueServer
 from mimic.motion.files import list_motions
 from mimic.recording.reader import read_joint_table, read_recording, read_tf
+from mimic.trials.api import check_variants
 from mimic.trials.executors import PoolExecutor
 from mimic.trials.kick import KickTrialConfig, run_kick_episode
 from mimic.trials.parallel import derive_seed, run_episodes
@@ -126,6 +127,15 @@ def test_a_league_kick_trial_from_the_command_line(tmp_path, monkeypatch):
     meta = json.loads(pq.read_schema(out).metadata[b"mimic"])
     assert meta["config"]["world"] == "league" and meta["summary"][0]["reach"] == "place"
     assert meta["variants"][0]["robot"] == "t1"
+
+
+def test_a_motion_only_the_t1_has_passes_the_trials_checks():
+    # The checks before a trial once read every motion as the NAO's, so a T1-only motion
+    # (kick_right_copyable) was "unknown" in a league kick trial.
+    spec = agent_spec("kick_right_copyable", robot="t1")
+    check_variants("kick", [spec])
+    with pytest.raises(MimicError, match="unknown agent 'kick_right_copyable'"):
+        agent_spec("kick_right_copyable", robot="nao")
 
 
 def test_a_league_walk_runs_10_m_from_a_standing_start():

@@ -71,7 +71,7 @@ def check_variants(kind: str, specs: list[AgentSpec]) -> None:
         elif spec.kind == "motion":
             from mimic.motion.files import load_motion
 
-            load_motion(spec.ref)
+            load_motion(spec.ref, spec.robot)
         if kind == "kick":
             spec.ball_offset_m()
 
