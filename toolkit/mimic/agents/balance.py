@@ -32,7 +32,8 @@ the NAO: for a planted foot raising its ankle pitch leans the shank forward, rai
 roll leans it left, raising hip pitch bends the torso forward over the leg, raising hip roll
 tilts the torso left over it. A left hip yaw-pitch of q yaws the left foot by -q sin 45 deg
 (right: +q sin 45 deg) and pitches it by q sin 45 deg, which a hip pitch change of the same
-size cancels (left: -yaw, right: +yaw). Gains are per robot (``default_gains``).
+size cancels (left: -yaw, right: +yaw). Gains are per robot, and per kind of motion where a
+robot needs it (a walk or a one-shot kick; ``default_gains``).
 """
 
 from __future__ import annotations
@@ -106,9 +107,10 @@ _DEFAULT_GAINS: dict[str, BalanceGains] = {
 # copies fall sideways over the support foot while the kicking foot comes back (the torso
 # leaning 0.15 rad toward the support side 1.4 s in, where copies that stand lean 0.05); the
 # walk's roll gain holds too little of that. Roll 0.8 was picked on the black-box copies of
-# ``kick_right_copyable`` (league, seeds 301-320: four copies fell 2 times each, against 4,
-# and one fell 0 in 30 unseen seeds against 4), costing 2-4 % of the kick's distance; the
-# walk keeps 0.23 (docs/tuning-notes.md).
+# ``kick_right_copyable`` (league, seeds 301-320: four copies fell 2 times each, against 4;
+# one of them 0 in seeds 321-350, against 4), costing 2-4 % of the kick's distance; on 50
+# seeds not used in choosing it (351-400) that copy fell 3 times, the original 10. The walk
+# keeps 0.23 (docs/tuning-notes.md).
 _ONE_SHOT_GAINS: dict[str, BalanceGains] = {
     "t1": replace(_DEFAULT_GAINS["t1"], roll=0.8),
 }
