@@ -243,6 +243,21 @@ def test_kick_objective_scores_distance_times_success_minus_falls():
             + ["--fall-penalty", "-1"],
             "--fall-penalty must be a finite number >= 0",
         ),
+        (
+            ["other-team-walk", "--objective", "walk", "--budget", "4", "-o", "x.json"]
+            + ["--world", "league"],
+            "engine parameters are searched for the NAO only",
+        ),
+        (
+            ["kick_right", "--objective", "kick", "--budget", "4", "-o", "x.txt"]
+            + ["--world", "league", "--robot", "nao"],
+            "the league world plays league robots (t1, k1), not the nao",
+        ),
+        (
+            ["kick_right", "--objective", "kick", "--budget", "4", "-o", "x.txt"]
+            + ["--world", "moon"],
+            "unknown world 'moon'",
+        ),
     ],
 )
 def test_bad_input_is_one_clear_line(args, message, tmp_path, monkeypatch):
@@ -345,3 +360,41 @@ def test_command_writes_the_file_the_trial_accepts_and_a_rerun_run(
 
 def test_walk_params_dataclass_is_frozen_so_candidates_never_share_state():
     assert dataclasses.is_dataclass(WalkParams) and WalkParams.__dataclass_params__.frozen
+
+
+def test_improve_plays_in_the_league_on_hosted_servers(tmp_path):
+    # Every episode, search and validation, on a league server of its own: the T1's own kick
+    # (a name the NAO does not have), cut to 6 s episodes; one joint searched.
+    tiny_league_kick = KickObjective(
+        episodes=1, search_limit_s=6.0, trial_config=KickTrialConfig(episode_limit_s=6.0)
+    )
+    run = improve(
+        "kick_right_copyable",
+        objective=tiny_league_kick,
+        world="league",
+        budget=4,
+        population=4,
+        joints="Right_Knee_Pitch",
+        workers=1,
+        out=tmp_path / "k.txt",
+        validation_episodes=1,
+        sigma=0.1,
+    )
+    assert run.objective.trial_config.world == "league"
+    summary = run.validation.summary
+    assert summary["world"].to_list() == ["league", "league"]
+    assert summary["reach"].to_list() == ["place", "place"]
+    assert summary["attempts"].min() >= 1  # both kicked, in the league's server
+    improved = load_motion(str(tmp_path / "k.txt"), "t1")
+    assert improved.robot == "t1"
+    assert "robot t1" in (tmp_path / "k.txt").read_text()
+    # A model says its own robot; a --robot that contradicts it is one line.
+    save_model(_tiny_model(), tmp_path / "nao.mimic")
+    with pytest.raises(MimicError, match="drives the nao, not the t1; pass --robot nao"):
+        improve(
+            str(tmp_path / "nao.mimic"),
+            objective="kick",
+            budget=4,
+            robot="t1",
+            out=tmp_path / "x.mimic",
+        )

@@ -37,6 +37,16 @@ FORCE = typer.Option("--force", help="Replace output files that exist (default: 
 SAVE = typer.Option("--save", help="Write the Rerun view to this .rrd file.", show_default=False)
 #: The old name of ``--save`` in ``train`` and ``trial``, kept working but not shown.
 SAVE_OLD = typer.Option("--save-rrd", hidden=True)
+#: ``--world``: where episodes play (``trial``, ``improve``).
+WORLD = typer.Option(
+    help="Where episodes play: mujoco (ours; also 'nao') or league (a "
+    "league server mimic hosts per episode: sync, no real time, free ports)."
+)
+#: ``--robot``: whose motion or engine a name means (``trial``, ``improve``).
+ROBOT = typer.Option(
+    help="The robot (mimic robots); default: nao in our world, t1 in the league.",
+    show_default=False,
+)
 
 
 def save_path(save: Path | None, save_old: Path | None) -> Path | None:

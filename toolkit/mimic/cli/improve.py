@@ -10,7 +10,7 @@ from typing import Annotated
 import typer
 from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 
-from mimic.cli.common import FORCE, console, reports_errors
+from mimic.cli.common import FORCE, ROBOT, WORLD, console, reports_errors
 from mimic.cli.executor_options import RAY, RAY_ADDRESS, WORKERS, check_workers
 from mimic.errors import MimicError
 
@@ -153,13 +153,15 @@ def _improve(
     workers: Annotated[int | None, WORKERS] = None,
     ray: Annotated[bool, RAY] = False,
     ray_address: Annotated[str | None, RAY_ADDRESS] = None,
+    world: Annotated[str, WORLD] = "mujoco",
+    robot: Annotated[str | None, ROBOT] = None,
     force: Annotated[bool, FORCE] = False,
 ) -> None:
     """Improve a motion with CMA-ES, scored by trial episodes; validate on held-out episodes."""
     import math
 
     from mimic import options
-    from mimic.cli.trial import TrialProgress, _print
+    from mimic.cli.trial import TrialProgress, _print, _world_text
     from mimic.files import check_outputs
     from mimic.improve import improve
     from mimic.improve.objectives import make_objective
@@ -208,6 +210,8 @@ def _improve(
             on_generation=on_generation,
             before_search=before_search,
             on_validation=lambda label, b: (_stop(bar), checks(label, b)),
+            world=world,
+            robot=robot,
         )
     finally:
         _stop(bar)
@@ -226,7 +230,7 @@ def _improve(
         _print(
             run.validation,
             f"validation: {n_validate} held-out episodes per variant, "
-            f"seed {seed} ({run.validation_wall_s:.1f} s)",
+            f"seed {seed} ({run.validation_wall_s:.1f} s); {_world_text(run.validation)}",
         )
         for f in run.files:
             console.print(f"wrote {f}")

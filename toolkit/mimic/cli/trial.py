@@ -13,7 +13,7 @@ from rich import box
 from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 from rich.table import Column, Table
 
-from mimic.cli.common import FORCE, SAVE_OLD, console, reports_errors, save_path
+from mimic.cli.common import FORCE, ROBOT, SAVE_OLD, WORLD, console, reports_errors, save_path
 from mimic.cli.executor_options import RAY, RAY_ADDRESS, WORKERS, open_executor
 from mimic.errors import MimicError
 
@@ -41,14 +41,6 @@ _SAVE_HELP = (
     "episode of each variant in 3D."
 )
 _SEED = typer.Option(help="Seed (0 .. 2**32-1); the same seed gives the same table.")
-_WORLD = typer.Option(
-    help="Where episodes play: mujoco (ours; also 'nao') or league (a "
-    "league server mimic hosts per episode: sync, no real time, free ports)."
-)
-_ROBOT = typer.Option(
-    help="The robot (mimic robots); default: nao in our world, t1 in the league.",
-    show_default=False,
-)
 
 #: Without a terminal (a pipe, a log file), a progress line is printed at most this often [s].
 PLAIN_PROGRESS_EVERY_S = 5.0
@@ -278,8 +270,8 @@ def kick(
     force: Annotated[bool, FORCE] = False,
     ray: Annotated[bool, RAY] = False,
     ray_address: Annotated[str | None, RAY_ADDRESS] = None,
-    world: Annotated[str, _WORLD] = "mujoco",
-    robot: Annotated[str | None, _ROBOT] = None,
+    world: Annotated[str, WORLD] = "mujoco",
+    robot: Annotated[str | None, ROBOT] = None,
 ) -> None:
     """Kick trial: kick toward the goal, reach the ball (walk there, or be placed behind it),
     kick again until a goal; repeat."""
@@ -351,8 +343,8 @@ def walk(
     force: Annotated[bool, FORCE] = False,
     ray: Annotated[bool, RAY] = False,
     ray_address: Annotated[str | None, RAY_ADDRESS] = None,
-    world: Annotated[str, _WORLD] = "mujoco",
-    robot: Annotated[str | None, _ROBOT] = None,
+    world: Annotated[str, WORLD] = "mujoco",
+    robot: Annotated[str | None, ROBOT] = None,
 ) -> None:
     """Walk trial from a standing start, straight ahead (our world: own goal line to centre
     line, 15 m; the league: 10 m through the centre spot), repeated."""

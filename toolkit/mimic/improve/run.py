@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import time
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 from mimic.errors import MimicError
@@ -66,6 +66,8 @@ def improve(
     on_generation: Callable[[SearchResult], None] | None = None,
     on_validation: Callable | None = None,
     before_search: Callable | None = None,
+    world: str | None = None,
+    robot: str | None = None,
 ) -> ImproveRun:
     """Improve ``target`` (an agent spec: motion, ``.mimic`` model, engine or ``.json``
     parameter file) for ``objective`` (``kick``/``walk``, or an objective from
@@ -80,26 +82,42 @@ def improve(
     (``mean``: never scored in the search, steadier when scores are noisy); validation tells
     which held up.
     ``before_search(target, objective, population)`` is called once the inputs are checked.
+    ``world`` (``mujoco`` or ``league``; default: the objective's trial settings, ours) is
+    where every episode plays, search and validation alike; ``robot`` (default: the NAO in
+    ours, the T1 in the league's; a model file says its own) is whose motion or engine a name
+    means.
 
     Raises:
-        MimicError: bad target, objective, budget, out suffix, checkpoint or Ray address.
+        MimicError: bad target, objective, budget, out suffix, checkpoint, Ray address, world,
+            or a robot that the world or the target does not take.
     """
     from mimic.agents.registry import agent_spec
+    from mimic.trials.worlds import check_world, default_robot, world_kind
 
     out = Path(out)
-    tgt = load_target(target, joints=joints)
+    obj = make_objective(objective, episodes) if isinstance(objective, str) else objective
+    if world is not None:
+        obj = replace(obj, trial_config=replace(obj.trial_config, world=world_kind(world)))
+    kind = obj.trial_config.world
+    tgt = load_target(target, joints=joints, robot=robot or default_robot(kind))
+    target_robot = tgt.baseline().robot
+    if robot is not None and target_robot != robot:
+        raise MimicError(
+            f"{target} drives the {target_robot}, not the {robot}; pass --robot {target_robot} "
+            "or leave --robot out"
+        )
+    check_world(kind, target_robot)
     if out.suffix != tgt.suffix:
         raise MimicError(
             f"-o {out}: a {tgt.kind} target is written as a {tgt.suffix} file; "
             f"give e.g. -o {out.with_suffix(tgt.suffix).name}"
         )
-    obj = make_objective(objective, episodes) if isinstance(objective, str) else objective
     if pick not in PICKS:
         raise MimicError(f"--pick must be one of {', '.join(PICKS)}, got {pick!r}")
     config = SearchConfig(budget=budget, seed=seed, sigma=sigma, population=population)
     if validation_episodes < 0:
         raise MimicError(f"--validate must be >= 0, got {validation_episodes}")
-    refs = [agent_spec(r) for r in references]
+    refs = [agent_spec(r, robot=target_robot) for r in references]
     for spec in (tgt.baseline(), *refs):  # a kick objective needs kicks: fail before searching
         if obj.name == "kick":
             spec.ball_offset_m()
@@ -114,7 +132,7 @@ def improve(
         with make_executor(workers, ray) as own:
             return improve(
                 target,
-                objective=objective,
+                objective=obj,
                 budget=budget,
                 out=out,
                 seed=seed,
@@ -130,6 +148,7 @@ def improve(
                 on_generation=on_generation,
                 on_validation=on_validation,
                 before_search=before_search,
+                robot=robot,
             )
     if before_search:
         before_search(tgt, obj, pop)
@@ -145,6 +164,8 @@ def improve(
         target=target,
         objective=obj.name,
         objective_settings={k: v for k, v in obj.describe().items() if k != "trial_config"},
+        world=kind,
+        robot=target_robot,
         seed=seed,
         evaluations=result.evaluations,
         episodes_per_evaluation=obj.episodes,

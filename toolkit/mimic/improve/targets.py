@@ -412,10 +412,16 @@ def load_target(text: str, *, joints: str = "legs", robot: str = "nao") -> Targe
         from mimic.learn.model_file import load_model
 
         return ModelTarget(text, load_model(spec.ref), spec.balance, joints)
+    engine = spec.kind == "params" or (spec.ref in PARAM_ENGINES and spec.ref in ENGINE_SEARCH)
+    if engine and spec.robot != "nao":  # the parameter engines are the NAO's
+        raise MimicError(
+            f"cannot improve {text!r} on the {spec.robot}: engine parameters are searched for "
+            f"the NAO only; improve a motion or a learned model of the {spec.robot} instead"
+        )
     if spec.kind == "params":
         agent, params = load_params(spec.ref)
         return ParamsTarget(text, agent, params, spec.robot)
-    if spec.ref in PARAM_ENGINES and spec.ref in ENGINE_SEARCH:
+    if engine:
         return ParamsTarget(text, spec.ref, default_params(spec.ref), spec.robot)
     raise MimicError(
         f"cannot improve {text!r}: it has no parameters to search; targets: a "
