@@ -248,10 +248,10 @@ class BalancedAgent(Agent):
         super().__init__()
         self.legs = leg_joints(inner.robot)
         self.inner = inner
-        one_shot = not inner.period_s
-        self.gains = default_gains(inner.robot, one_shot) if gains is None else gains
-        self.heading = heading if inner.period_s else None
-        self.swing_feedback = bool(inner.period_s) if swing_feedback is None else swing_feedback
+        cyclic = bool(inner.period_s)
+        self.gains = default_gains(inner.robot, one_shot=not cyclic) if gains is None else gains
+        self.heading = heading if cyclic else None
+        self.swing_feedback = cyclic if swing_feedback is None else swing_feedback
         self.start_posture = inner.start_posture
         self.ball_offset_m = getattr(inner, "ball_offset_m", None)
         self.name, self.team, self.period_s = inner.name, inner.team, inner.period_s
