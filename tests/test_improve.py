@@ -193,6 +193,46 @@ def test_kick_objective_scores_distance_times_success_minus_falls():
         KickObjective(trial_config=KickTrialConfig(walk_timeout_s=5.0)).search_config.walk_timeout_s
         == 5.0
     )
+    # A short kick's own rule: 0.5 m counts the 1 m kick; 0 scores plain distance.
+    short = KickObjective(fall_penalty_m=2.0, trial_config=KickTrialConfig(success_distance_m=0.5))
+    assert short.score(batch) == pytest.approx((4.0 + 1.0) / 2 - 1.0)
+    assert short.describe()["success_distance_m"] == 0.5
+
+
+def test_a_model_inside_the_balance_layer_searches_its_gains_and_its_file_keeps_them(tmp_path):
+    from mimic.agents.balance import BalancedAgent, default_gains
+    from mimic.agents.neural_player import NeuralPlayer
+
+    path = save_model(_tiny_model(), tmp_path / "kick.mimic")
+    target = load_target(str(path) + "+balance")
+    gains = [n for n in target.space.names if n.startswith("balance.")]
+    assert gains == [
+        "balance.pitch",
+        "balance.roll",
+        "balance.pitch_rate_s",
+        "balance.roll_rate_s",
+        "balance.limit_rad",
+    ]
+    assert target.space.dim == 25 + 5
+    # The search starts from the gains the layer uses around the model as it is (a kick:
+    # its robot's one-shot gains).
+    start = default_gains("nao", one_shot=True)
+    assert target.space.describe(np.zeros(30))["balance.roll"] == start.roll
+    z = np.zeros(30)
+    z[target.space.names.index("balance.roll")] = 4.0  # one search unit is 0.25
+    written = target.write(z, tmp_path / "better.mimic", {"evaluations": 8})
+    # The file carries its gains: the layer around it (the way every command builds
+    # M.mimic+balance) uses them, the rest of its gains stay its robot's.
+    layer = agent_spec(str(written) + "+balance").build()
+    assert isinstance(layer, BalancedAgent)
+    assert layer.gains.roll == pytest.approx(start.roll + 1.0)
+    assert layer.gains.support_delay_cycles == start.support_delay_cycles
+    # Without the layer the target searches the correction only.
+    assert load_target(str(path)).space.dim == 25
+    # A model file with a gain the layer lacks is one line.
+    bad = dataclasses.replace(_tiny_model(), metadata={"motion": "x", "balance_gains": {"yaw": 1}})
+    with pytest.raises(MimicError, match="unknown balance gain yaw"):
+        BalancedAgent(NeuralPlayer(bad))
 
 
 @pytest.mark.parametrize(
@@ -257,6 +297,16 @@ def test_kick_objective_scores_distance_times_success_minus_falls():
             ["kick_right", "--objective", "kick", "--budget", "4", "-o", "x.txt"]
             + ["--world", "moon"],
             "unknown world 'moon'",
+        ),
+        (
+            ["other-team-walk", "--objective", "walk", "--budget", "4", "-o", "x.json"]
+            + ["--success-m", "0.5"],
+            "--success-m is the kick objective's rule",
+        ),
+        (
+            ["kick_right", "--objective", "kick", "--budget", "4", "-o", "x.txt"]
+            + ["--success-m", "-1"],
+            "--success-m must be a finite number >= 0",
         ),
     ],
 )

@@ -113,6 +113,8 @@ def test_a_league_kick_trial_from_the_command_line(tmp_path, monkeypatch):
             "0.05",
             "--workers",
             "1",
+            "--success-m",
+            "0.01",
             "-o",
             str(out),
         ],
@@ -120,6 +122,11 @@ def test_a_league_kick_trial_from_the_command_line(tmp_path, monkeypatch):
     assert result.exit_code == 0, result.output
     text = " ".join(result.output.split())
     assert "league world" in text and "placed behind the ball after each kick" in text
+    # The kick's own success rule, in the legend and in every row.
+    assert "ok: kicks farther than 0.01 m" in text
+    kicks = pl.read_parquet(out)
+    assert kicks.height >= 1
+    assert kicks["success"].to_list() == (kicks["distance_m"] > 0.01).to_list()
     import json
 
     import pyarrow.parquet as pq

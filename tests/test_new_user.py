@@ -232,6 +232,7 @@ def test_a_killed_recording_keeps_what_it_wrote(tmp_path):
             "--minutes",
         ),
         (["trial", "kick", "--minutes", "0"], "--minutes"),
+        (["trial", "kick", "--success-m", "nan"], "--success-m"),
         (["trial", "walk", "--minutes", "-inf"], "--minutes"),
         (["trial", "walk", "--minutes", "nan"], "--minutes"),
         (["trial", "walk", "--speed-rate", "nan"], "--speed-rate"),

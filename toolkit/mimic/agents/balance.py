@@ -57,6 +57,8 @@ __all__ = [
     "LegJoints",
     "leg_joints",
     "default_gains",
+    "gains_with",
+    "BALANCE_GAINS_KEY",
     "torso_lean_rad",
     "torso_yaw_rad",
     "foot_yaw_shift_rad",
@@ -218,6 +220,30 @@ def foot_yaw_shift_rad(
     return shift
 
 
+#: Where a model file carries its own balance gains (``metadata``; written by ``mimic improve
+#: M.mimic+balance``): the ``BalanceGains`` fields it sets, the rest its robot's defaults.
+BALANCE_GAINS_KEY = "balance_gains"
+
+
+def gains_with(base: BalanceGains, fields: dict, where: str = "balance gains") -> BalanceGains:
+    """``base`` with the named ``BalanceGains`` fields replaced (a model's own gains).
+
+    Raises:
+        MimicError: a field that ``BalanceGains`` lacks, or a value that is not a number.
+    """
+    known = BalanceGains.__dataclass_fields__
+    unknown = sorted(set(fields) - set(known))
+    if unknown:
+        raise MimicError(
+            f"{where}: unknown balance gain {', '.join(unknown)}; known: {', '.join(known)}"
+        )
+    try:
+        values = {k: type(getattr(base, k))(v) for k, v in fields.items()}
+    except (TypeError, ValueError):
+        raise MimicError(f"{where}: balance gains must be numbers, got {fields}") from None
+    return replace(base, **values)
+
+
 def default_gains(robot: str, one_shot: bool = False) -> BalanceGains:
     """The tilt gains a robot's balance layer starts with (tuned per robot), for a cyclic
     motion (a walk) or, with ``one_shot``, a motion that runs once (a kick)."""
@@ -229,7 +255,8 @@ class BalancedAgent(Agent):
     """Wraps an agent; adds IMU tilt feedback and per-step heading control to its references.
 
     The corrections use the inner agent's robot's legs (``leg_joints``); ``gains=None`` takes
-    that robot's ``default_gains`` for the inner agent's kind (cyclic or one-shot).
+    that robot's ``default_gains`` for the inner agent's kind (cyclic or one-shot), with the
+    inner agent's own ``balance_gains`` (a dict of fields; a model file may carry them) on top.
 
     Heading control acts on cyclic agents only (``period_s`` set: a walk); ``heading=None``
     switches it off. ``swing_feedback`` sends part of the tilt correction to the swing leg
@@ -249,7 +276,12 @@ class BalancedAgent(Agent):
         self.legs = leg_joints(inner.robot)
         self.inner = inner
         cyclic = bool(inner.period_s)
-        self.gains = default_gains(inner.robot, one_shot=not cyclic) if gains is None else gains
+        if gains is None:
+            gains = default_gains(inner.robot, one_shot=not cyclic)
+            own = getattr(inner, "balance_gains", None)
+            if own:
+                gains = gains_with(gains, own, f"{inner.name}'s balance gains")
+        self.gains = gains
         self.heading = heading if cyclic else None
         self.swing_feedback = cyclic if swing_feedback is None else swing_feedback
         self.start_posture = inner.start_posture

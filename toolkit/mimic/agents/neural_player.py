@@ -17,6 +17,7 @@ from pathlib import Path
 
 import numpy as np
 
+from mimic.agents.balance import BALANCE_GAINS_KEY
 from mimic.agents.base import Agent, JointCommand
 from mimic.learn.model import MotionModel
 from mimic.world.base import Observation
@@ -71,6 +72,8 @@ class NeuralPlayer(Agent):
         # A learned kick wants the ball where its recording had it (robot frame [m]).
         offset = model.metadata.get("ball_offset_m")
         self.ball_offset_m = None if offset is None else (float(offset[0]), float(offset[1]))
+        # Gains the balance layer uses around this model (``agents.balance``), if it has its own.
+        self.balance_gains = dict(model.metadata.get(BALANCE_GAINS_KEY) or {})
         self.ended_flag = 0.0
         self._start_s = 0.0
         self._start_rad: np.ndarray | None = None

@@ -48,6 +48,14 @@ ROBOT = typer.Option(
     show_default=False,
 )
 
+#: ``--success-m``: the kick rule's distance (``trial kick``, ``improve --objective kick``).
+SUCCESS_M = typer.Option(
+    "--success-m",
+    help="A kick succeeds when the ball travels farther than this [m]; default: the "
+    "study's 2 m. Give a shorter kick its own (e.g. 0.5 for a 1 m kick).",
+    show_default=False,
+)
+
 
 def save_path(save: Path | None, save_old: Path | None) -> Path | None:
     """``--save`` or its old name ``--save-rrd`` (not both)."""

@@ -10,7 +10,7 @@ from typing import Annotated
 import typer
 from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 
-from mimic.cli.common import FORCE, ROBOT, WORLD, console, reports_errors
+from mimic.cli.common import FORCE, ROBOT, SUCCESS_M, WORLD, console, reports_errors
 from mimic.cli.executor_options import RAY, RAY_ADDRESS, WORKERS, check_workers
 from mimic.errors import MimicError
 
@@ -155,6 +155,7 @@ def _improve(
     ray_address: Annotated[str | None, RAY_ADDRESS] = None,
     world: Annotated[str, WORLD] = "mujoco",
     robot: Annotated[str | None, ROBOT] = None,
+    success_m: Annotated[float | None, SUCCESS_M] = None,
     force: Annotated[bool, FORCE] = False,
 ) -> None:
     """Improve a motion with CMA-ES, scored by trial episodes; validate on held-out episodes."""
@@ -178,6 +179,13 @@ def _improve(
         if not math.isfinite(fall_penalty) or fall_penalty < 0:
             raise MimicError(f"--fall-penalty must be a finite number >= 0, got {fall_penalty}")
         settings[_FALL_PENALTY[objective.value]] = fall_penalty
+    if success_m is not None:
+        if objective.value != "kick":
+            raise MimicError("--success-m is the kick objective's rule; drop it for a walk")
+        from mimic.trials.kick import KickTrialConfig
+
+        options.finite(success_m, "--success-m", at_least=0)
+        settings["trial_config"] = KickTrialConfig(success_distance_m=success_m)
     n_validate = _DEFAULT_VALIDATION[objective.value] if validate is None else validate
     bar, on_generation = _search_bar(budget)
     checks = TrialProgress(None, n_validate)  # the held-out episodes, as a trial shows them
@@ -231,6 +239,7 @@ def _improve(
             run.validation,
             f"validation: {n_validate} held-out episodes per variant, "
             f"seed {seed} ({run.validation_wall_s:.1f} s); {_world_text(run.validation)}",
+            getattr(run.objective.trial_config, "success_distance_m", None),
         )
         for f in run.files:
             console.print(f"wrote {f}")

@@ -13,7 +13,16 @@ from rich import box
 from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 from rich.table import Column, Table
 
-from mimic.cli.common import FORCE, ROBOT, SAVE_OLD, WORLD, console, reports_errors, save_path
+from mimic.cli.common import (
+    FORCE,
+    ROBOT,
+    SAVE_OLD,
+    SUCCESS_M,
+    WORLD,
+    console,
+    reports_errors,
+    save_path,
+)
 from mimic.cli.executor_options import RAY, RAY_ADDRESS, WORKERS, open_executor
 from mimic.errors import MimicError
 
@@ -157,7 +166,7 @@ _CI_SHOWN = {
 }
 _LEGEND = {
     "kick": "95% CI: 95 % confidence interval of the accuracy (Wilson) and of the mean distance "
-    "(t, +- half width). ok: kicks farther than 2 m. stuck: episodes that ended because "
+    "(t, +- half width). ok: kicks farther than {success_m:g} m. stuck: episodes that ended because "
     "the robot could not reach the ball in time or could not line up with it. Ratios: "
     "against the first variant.",
     "walk": "95% CI: 95 % confidence interval of the means (t, +- half width) and of the share "
@@ -194,7 +203,7 @@ def _world_text(result) -> str:
     return world + (f", {reach}" if reach else "")
 
 
-def _print(result, title: str) -> None:
+def _print(result, title: str, success_m: float | None = None) -> None:
     shown = {c: h for c, h in _SHOWN[result.kind].items() if c in result.summary.columns}
     # Headers on two lines, no vertical rules, no edges: a whole kick table, confidence
     # intervals included, fits in 80 columns.
@@ -214,7 +223,9 @@ def _print(result, title: str) -> None:
         if any(ci):
             table.add_row(*(["  95% CI"] + ci[1:]), style="dim")
     console.print(table)
-    console.print(_LEGEND[result.kind], style="dim", highlight=False)
+    if success_m is None:
+        from mimic.trials.kick import SUCCESS_DISTANCE_M as success_m
+    console.print(_LEGEND[result.kind].format(success_m=success_m), style="dim", highlight=False)
     for f in result.files:
         console.print(f"wrote {f}", highlight=False)
 
@@ -272,6 +283,7 @@ def kick(
     ray_address: Annotated[str | None, RAY_ADDRESS] = None,
     world: Annotated[str, WORLD] = "mujoco",
     robot: Annotated[str | None, ROBOT] = None,
+    success_m: Annotated[float | None, SUCCESS_M] = None,
 ) -> None:
     """Kick trial: kick toward the goal, reach the ball (walk there, or be placed behind it),
     kick again until a goal; repeat."""
@@ -285,6 +297,8 @@ def kick(
         variants, compare, motion, model, balance, 1.0, "kick_right", robot or default_robot(world)
     )
     config = KickTrialConfig(world=world)
+    if success_m is not None:
+        config = replace(config, success_distance_m=success_m)
     _check(
         "kick", specs, out, save, force, minutes=minutes, seed=seed, workers=workers, config=config
     )
@@ -306,6 +320,7 @@ def kick(
     _print(
         result,
         f"kick trial, {minutes:g} simulated min per variant, seed {seed}; {_world_text(result)}",
+        config.success_distance_m,
     )
     _dashboard(result, save, rerun, force)
 

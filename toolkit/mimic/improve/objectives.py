@@ -2,7 +2,8 @@
 and statistics), for kicks and for walks.
 
 * ``kick``: kick distance and accuracy: the mean over kicks of distance x success [m] (a kick
-  succeeds when the ball travels more than 2 m, the trials' rule), minus ``fall_penalty_m`` per
+  succeeds when the ball travels more than the trial's ``success_distance_m``, the study's 2 m
+  unless set; 0 scores plain distance), minus ``fall_penalty_m`` per
   fall per kick. The search plays kick-trial episodes (walk to the ball, line up, kick, until a
   goal) cut at ``search_limit_s`` of simulated time to spend the budget on kicks.
 * ``walk``: walk speed over the walk trial's 15 m [m/s], minus ``fall_penalty_m_s`` times the
@@ -19,7 +20,7 @@ from dataclasses import asdict, dataclass, replace
 import numpy as np
 
 from mimic.errors import MimicError
-from mimic.trials.kick import SUCCESS_DISTANCE_M, KickTrialConfig, run_kick_episode
+from mimic.trials.kick import KickTrialConfig, run_kick_episode
 from mimic.trials.parallel import EpisodeBatch
 from mimic.trials.report import kick_summary, walk_summary
 from mimic.trials.walk import WalkTrialConfig, run_walk_episode
@@ -54,9 +55,8 @@ class KickObjective:
         kicks = len(batch.rows)
         if kicks == 0:
             return -self.fall_penalty_m * (1 + falls)
-        useful = np.mean(
-            [r["distance_m"] * (r["distance_m"] > SUCCESS_DISTANCE_M) for r in batch.rows]
-        )
+        success_m = self.trial_config.success_distance_m
+        useful = np.mean([r["distance_m"] * (r["distance_m"] > success_m) for r in batch.rows])
         return float(useful - self.fall_penalty_m * falls / kicks)
 
     def describe(self) -> dict:
@@ -65,6 +65,7 @@ class KickObjective:
             episodes=self.episodes,
             search_limit_s=self.search_limit_s,
             fall_penalty_m=self.fall_penalty_m,
+            success_distance_m=self.trial_config.success_distance_m,
             trial_config=asdict(self.trial_config),
         )
 

@@ -3,7 +3,8 @@
 * a keyframe motion (a shipped name or a ``.txt`` file): the angles of the chosen joints in
   every keyframe [rad], every step time [s] and the speed rate; written as a motion file;
 * a learned model (``.mimic``, optionally ``+balance``): a time warp and per-joint offsets and
-  gains (``improve.correction``); written as a model file;
+  gains (``improve.correction``), and inside the balance layer its tilt gains too (the model
+  file then carries them); written as a model file;
 * an engine's parameters (``other-team-walk`` or a ``.json`` parameter file): the floats of
   its parameter dataclass; written as a parameter file (``agents.params_file``).
 
@@ -250,12 +251,28 @@ class MotionTarget(Target):
         return _atomic_write(Path(path), header + format_motion(self.movement_at(z)))
 
 
+#: The balance layer's tilt gains a ``+balance`` model target searches: field -> (scale,
+#: lower, upper), in the field's units (``agents.balance.BalanceGains``). The T1's kick copies
+#: stand or fall on the roll gain (0.23-2.0 tried by hand, docs/tuning-notes.md).
+BALANCE_SEARCH: dict[str, tuple[float, float, float]] = {
+    "pitch": (0.1, 0.0, 2.0),
+    "roll": (0.25, 0.0, 3.0),
+    "pitch_rate_s": (0.02, 0.0, 0.3),
+    "roll_rate_s": (0.05, 0.0, 0.5),
+    "limit_rad": (0.05, 0.1, 0.6),
+}
+
+
 class ModelTarget(Target):
-    """A learned model: time warp, per-joint offsets and gains (``improve.correction``).
+    """A learned model: time warp, per-joint offsets and gains (``improve.correction``), and
+    inside the balance layer its tilt gains.
 
     Parameters: ``time_rate`` (scale 0.05, 0.7..1.4), ``offset.<joint>`` [rad] (scale 0.03,
     +-0.25 rad) and ``gain.<joint>`` (scale 0.05, 0.5..1.5) for the chosen joints (default:
-    the legs: 1 + 12 + 12 = 25 parameters on the NAO).
+    the legs: 1 + 12 + 12 = 25 parameters on the NAO); with ``balance``, ``balance.<gain>``
+    (``BALANCE_SEARCH``) from the gains the layer would use around the model as it is. The
+    model file written carries the gains found (``agents.balance.BALANCE_GAINS_KEY``), so
+    ``OUT.mimic+balance`` plays with them.
     """
 
     kind, suffix = "model", ".mimic"
@@ -265,30 +282,55 @@ class ModelTarget(Target):
         self.joints = resolve_joints(model.robot, joints)
         names = [model.joint_names[j] for j in self.joints]
         d = len(names)
-        space = Space(
-            ("time_rate", *(f"offset.{n}" for n in names), *(f"gain.{n}" for n in names)),
-            base=[1.0, *[0.0] * d, *[1.0] * d],
-            scale=[0.05, *[0.03] * d, *[0.05] * d],
-            lower=[0.7, *[-0.25] * d, *[0.5] * d],
-            upper=[1.4, *[0.25] * d, *[1.5] * d],
-        )
+        params = [
+            ("time_rate", 1.0, 0.05, 0.7, 1.4),
+            *((f"offset.{n}", 0.0, 0.03, -0.25, 0.25) for n in names),
+            *((f"gain.{n}", 1.0, 0.05, 0.5, 1.5) for n in names),
+        ]
+        if balance:
+            gains = self._layer_gains()
+            for field, (scale, lower, upper) in BALANCE_SEARCH.items():
+                value = float(getattr(gains, field))
+                params.append(
+                    (f"balance.{field}", value, scale, min(lower, value), max(upper, value))
+                )
+        names_, base, scale, lower, upper = zip(*params)
+        self._num_joints_searched = d
         super().__init__(
             text,
-            space,
+            Space(names_, base, scale, lower, upper),
             Path(text.removesuffix("+balance")).stem
             + " (learned)"
             + (" + balance" if balance else ""),
         )
 
+    def _layer_gains(self):
+        """The tilt gains the balance layer uses around the model as it is."""
+        from mimic.agents.balance import BalancedAgent
+        from mimic.agents.neural_player import NeuralPlayer
+
+        return BalancedAgent(NeuralPlayer(self.model)).gains
+
     def model_at(self, z: np.ndarray, provenance: dict | None = None):
+        import dataclasses
+
+        from mimic.agents.balance import BALANCE_GAINS_KEY
         from mimic.improve.correction import corrected_model
 
         v = self.space.values(z)
-        n, d = len(self.model.joint_names), len(self.joints)
+        n, d = len(self.model.joint_names), self._num_joints_searched
         offsets, gains = np.zeros(n), np.ones(n)
         offsets[self.joints] = v[1 : 1 + d]
         gains[self.joints] = v[1 + d : 1 + 2 * d]
-        return corrected_model(self.model, float(v[0]), offsets, gains, provenance=provenance)
+        model = corrected_model(self.model, float(v[0]), offsets, gains, provenance=provenance)
+        if not self.balance:
+            return model
+        own = {
+            name.removeprefix("balance."): float(value)
+            for name, value in zip(self.space.names, v)
+            if name.startswith("balance.")
+        }
+        return dataclasses.replace(model, metadata={**model.metadata, BALANCE_GAINS_KEY: own})
 
     def spec(self, z, label=None):
         return ModelSpec(self.model_at(z), label or f"{self.label} (improved)", self.balance)

@@ -99,6 +99,8 @@ def check_trial(
     options.seed(seed)
     options.workers(workers)
     world = world_kind(getattr(config, "world", MUJOCO))
+    if kind == "kick" and config is not None:
+        options.finite(config.success_distance_m, "--success-m", at_least=0)
     for spec in specs:
         check_world(world, spec.robot)
         if kind == "kick" and config is not None:

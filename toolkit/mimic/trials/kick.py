@@ -76,6 +76,9 @@ class KickTrialConfig:
     start_goal_distance_m: float = 15.0
     # League only: the command that starts the server (None: ``python -m rcsssmj``).
     server_command: tuple[str, ...] | None = None
+    # A kick succeeds when the ball travels farther than this [m] (the study's 2 m; a shorter
+    # kick, such as the T1 other team's 1 m kick inside its walk, needs its own rule).
+    success_distance_m: float = SUCCESS_DISTANCE_M
 
 
 def reach_method(config: KickTrialConfig, robot: str) -> str:
@@ -284,7 +287,7 @@ def _play_kick_episode(
                 kick=len(rows),
                 time_s=start_t,
                 distance_m=distance,
-                success=distance > SUCCESS_DISTANCE_M,
+                success=distance > config.success_distance_m,
                 direction_error_deg=math.degrees(_direction_error_rad(start_xy, end_xy, goal_x)),
                 goal=bool(world.goal_scored()) or called == "goal",
                 ball_out=bool(world.ball_out()) or called == "out",
