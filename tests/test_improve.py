@@ -200,7 +200,7 @@ def test_kick_objective_scores_distance_times_success_minus_falls():
 
 
 def test_a_model_inside_the_balance_layer_searches_its_gains_and_its_file_keeps_them(tmp_path):
-    from mimic.agents.balance import BalancedAgent, default_gains
+    from mimic.agents.balance import BalancedAgent, default_gains, with_balance_gains
     from mimic.agents.neural_player import NeuralPlayer
 
     path = save_model(_tiny_model(), tmp_path / "kick.mimic")
@@ -233,6 +233,12 @@ def test_a_model_inside_the_balance_layer_searches_its_gains_and_its_file_keeps_
     bad = dataclasses.replace(_tiny_model(), metadata={"motion": "x", "balance_gains": {"yaw": 1}})
     with pytest.raises(MimicError, match="unknown balance gain yaw"):
         BalancedAgent(NeuralPlayer(bad))
+    with pytest.raises(MimicError, match="unknown balance gain yaw"):
+        with_balance_gains(_tiny_model(), {"roll": 2.0, "yaw": 1})
+    given = with_balance_gains(_tiny_model(), {"roll": 2.0, "limit_rad": 0.4})
+    assert BalancedAgent(NeuralPlayer(given)).gains == dataclasses.replace(
+        start, roll=2.0, limit_rad=0.4
+    )
 
 
 @pytest.mark.parametrize(

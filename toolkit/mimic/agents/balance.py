@@ -58,6 +58,7 @@ __all__ = [
     "leg_joints",
     "default_gains",
     "gains_with",
+    "with_balance_gains",
     "BALANCE_GAINS_KEY",
     "torso_lean_rad",
     "torso_yaw_rad",
@@ -242,6 +243,15 @@ def gains_with(base: BalanceGains, fields: dict, where: str = "balance gains") -
     except (TypeError, ValueError):
         raise MimicError(f"{where}: balance gains must be numbers, got {fields}") from None
     return replace(base, **values)
+
+
+def with_balance_gains(model, fields: dict):
+    """A learned model (``learn.model.MotionModel``) that carries its own balance gains: the
+    named ``BalanceGains`` fields (checked), over the robot's defaults wherever the balance
+    layer plays it (``M.mimic+balance``)."""
+    gains_with(BalanceGains(), fields, f"{model.name}'s balance gains")
+    own = {k: float(v) for k, v in fields.items()}
+    return replace(model, metadata={**model.metadata, BALANCE_GAINS_KEY: own})
 
 
 def default_gains(robot: str, one_shot: bool = False) -> BalanceGains:

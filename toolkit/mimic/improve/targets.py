@@ -312,9 +312,7 @@ class ModelTarget(Target):
         return BalancedAgent(NeuralPlayer(self.model)).gains
 
     def model_at(self, z: np.ndarray, provenance: dict | None = None):
-        import dataclasses
-
-        from mimic.agents.balance import BALANCE_GAINS_KEY
+        from mimic.agents.balance import with_balance_gains
         from mimic.improve.correction import corrected_model
 
         v = self.space.values(z)
@@ -330,7 +328,7 @@ class ModelTarget(Target):
             for name, value in zip(self.space.names, v)
             if name.startswith("balance.")
         }
-        return dataclasses.replace(model, metadata={**model.metadata, BALANCE_GAINS_KEY: own})
+        return with_balance_gains(model, own)
 
     def spec(self, z, label=None):
         return ModelSpec(self.model_at(z), label or f"{self.label} (improved)", self.balance)
