@@ -51,7 +51,7 @@ ROBOT = typer.Option(
 #: ``--success-m``: the kick rule's distance (``trial kick``, ``improve --objective kick``).
 SUCCESS_M = typer.Option(
     "--success-m",
-    help="A kick succeeds when the ball travels farther than this [m]; default: the "
+    help="A kick succeeds when the ball travels farther than this \\[m]; default: the "
     "study's 2 m. Give a shorter kick its own (e.g. 0.5 for a 1 m kick).",
     show_default=False,
 )
