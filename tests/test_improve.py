@@ -239,6 +239,11 @@ def test_a_model_inside_the_balance_layer_searches_its_gains_and_its_file_keeps_
     assert BalancedAgent(NeuralPlayer(given)).gains == dataclasses.replace(
         start, roll=2.0, limit_rad=0.4
     )
+    # Gains the search does not touch stay as the model had them.
+    shared = with_balance_gains(_tiny_model(), {"hip_share": 0.5})
+    path = save_model(shared, tmp_path / "shared.mimic")
+    kept = load_target(str(path) + "+balance").write(z, tmp_path / "kept.mimic", {})
+    assert agent_spec(str(kept) + "+balance").build().gains.hip_share == 0.5
 
 
 @pytest.mark.parametrize(

@@ -247,10 +247,10 @@ def gains_with(base: BalanceGains, fields: dict, where: str = "balance gains") -
 
 def with_balance_gains(model, fields: dict):
     """A learned model (``learn.model.MotionModel``) that carries its own balance gains: the
-    named ``BalanceGains`` fields (checked), over the robot's defaults wherever the balance
-    layer plays it (``M.mimic+balance``)."""
+    named ``BalanceGains`` fields (checked), on top of any it carries already, over the
+    robot's defaults wherever the balance layer plays it (``M.mimic+balance``)."""
     gains_with(BalanceGains(), fields, f"{model.name}'s balance gains")
-    own = {k: float(v) for k, v in fields.items()}
+    own = {**model.metadata.get(BALANCE_GAINS_KEY, {}), **{k: float(v) for k, v in fields.items()}}
     return replace(model, metadata={**model.metadata, BALANCE_GAINS_KEY: own})
 
 

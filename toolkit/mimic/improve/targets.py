@@ -281,7 +281,6 @@ class ModelTarget(Target):
         self.model, self.balance = model, balance
         self.joints = resolve_joints(model.robot, joints)
         names = [model.joint_names[j] for j in self.joints]
-        d = len(names)
         params = [
             ("time_rate", 1.0, 0.05, 0.7, 1.4),
             *((f"offset.{n}", 0.0, 0.03, -0.25, 0.25) for n in names),
@@ -295,7 +294,6 @@ class ModelTarget(Target):
                     (f"balance.{field}", value, scale, min(lower, value), max(upper, value))
                 )
         names_, base, scale, lower, upper = zip(*params)
-        self._num_joints_searched = d
         super().__init__(
             text,
             Space(names_, base, scale, lower, upper),
@@ -316,7 +314,7 @@ class ModelTarget(Target):
         from mimic.improve.correction import corrected_model
 
         v = self.space.values(z)
-        n, d = len(self.model.joint_names), self._num_joints_searched
+        n, d = len(self.model.joint_names), len(self.joints)
         offsets, gains = np.zeros(n), np.ones(n)
         offsets[self.joints] = v[1 : 1 + d]
         gains[self.joints] = v[1 + d : 1 + 2 * d]
