@@ -58,7 +58,7 @@ KICK_SUCCESS_M = 0.5
 START_GAINS = {"roll": 2.0, "limit_rad": 0.4}
 IMPROVE = (
     "--world", "league", "--objective", "kick", "--success-m", "0", "--fall-penalty", "5",
-    "--population", "12", "--episodes", "2", "--sigma", "1", "--seed", "14", "--validate", "0",
+    "--population", "12", "--episodes", "2", "--sigma", "0.5", "--seed", "14", "--validate", "0",
 )  # fmt: skip
 
 
