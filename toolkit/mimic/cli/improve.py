@@ -159,8 +159,6 @@ def _improve(
     force: Annotated[bool, FORCE] = False,
 ) -> None:
     """Improve a motion with CMA-ES, scored by trial episodes; validate on held-out episodes."""
-    import math
-
     from mimic import options
     from mimic.cli.trial import TrialProgress, _print, _world_text
     from mimic.files import check_outputs
@@ -172,12 +170,10 @@ def _improve(
         raise MimicError(f"--budget must be > 0 evaluations, got {budget}")
     options.seed(seed)
     check_outputs([out, save], force=force)
-    if not math.isfinite(sigma) or sigma <= 0:
-        raise MimicError(f"--sigma must be a finite number > 0, got {sigma}")
+    options.finite(sigma, "--sigma", above=0)
     settings = {}
     if fall_penalty is not None:
-        if not math.isfinite(fall_penalty) or fall_penalty < 0:
-            raise MimicError(f"--fall-penalty must be a finite number >= 0, got {fall_penalty}")
+        options.finite(fall_penalty, "--fall-penalty", at_least=0)
         settings[_FALL_PENALTY[objective.value]] = fall_penalty
     if success_m is not None:
         if objective.value != "kick":
