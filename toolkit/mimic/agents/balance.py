@@ -17,6 +17,10 @@ learned walk fell about six times as often). A correction means opposite things 
   the swing-hip correction made things worse: in 8 seeded kicks per model the four reached-angle
   copies fell 0/8 each with the support ankle alone; one of them fell 5/8 with the swing-hip
   correction and 8/8 without any balance.
+* Foot placement (cyclic motions that carry their recording's foot track, gains
+  ``place_*``, off by default): the support foot under the torso is compared with where the
+  recording had it at the same phase, and the swing foot lands farther along that error and
+  its rate (``agents.foot_placement``); the support foot keeps the shift it landed with.
 * Heading: walk engines turn by yawing the feet in each step: the swing foot is put down
   turned by half the step's turn and the support foot turns back by the other half, so the
   torso rotates over the planted foot. We do the same with the hip yaw-pitch joints (their
@@ -44,6 +48,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from mimic.agents.base import Agent, JointCommand
+from mimic.agents.foot_placement import FootKinematics
 from mimic.errors import MimicError
 from mimic.geometry import yaw_from_quat
 from mimic.robot.model import RobotDescription
@@ -95,6 +100,24 @@ class BalanceGains:
     support_hysteresis_rad: float = 0.02
     # ... and this many 20 ms cycles later (the tracking lag: weight moves with the joints).
     support_delay_cycles: int = 1
+    # Foot placement (cyclic motions that carry their recording's foot track;
+    # ``agents.foot_placement``): the swing foot lands this much farther forward / leftward
+    # per metre of the torso's error over the support foot against the track, and per m/s of
+    # the error's rate (capture-point style) [m/m, m/(m/s)]; all 0 switch it off.
+    place_x: float = 0.0
+    place_x_rate_s: float = 0.0
+    place_y: float = 0.0
+    place_y_rate_s: float = 0.0
+    # Largest landing shift [m]; how far inward (toward the support foot) it may go [m].
+    place_limit_m: float = 0.05
+    place_inward_m: float = 0.02
+    # Time constant of the error-rate filter [s] (the measured error jumps at touch-down).
+    place_rate_filter_s: float = 0.05
+
+    @property
+    def placement_on(self) -> bool:
+        """Whether foot placement acts (any of its four gains is not 0)."""
+        return any((self.place_x, self.place_x_rate_s, self.place_y, self.place_y_rate_s))
 
 
 # Each robot's tilt gains (a robot not listed starts with the NAO's). The T1's: CMA-ES (64
@@ -132,6 +155,11 @@ class HeadingGains:
     # at most 0.37 m off the line instead of 1.58 m; see docs/tuning-notes.md.)
     max_turn_rad: float = 0.08
     max_aim_rad: float = 0.3
+
+
+def _smooth(s: float) -> float:
+    """Smoothstep of ``s`` in 0..1 (zero slope at both ends)."""
+    return s * s * (3.0 - 2.0 * s)
 
 
 def torso_lean_rad(obs: Observation) -> tuple[float, float]:
@@ -256,7 +284,8 @@ def with_balance_gains(model, fields: dict):
 
 def default_gains(robot: str, one_shot: bool = False) -> BalanceGains:
     """The tilt gains a robot's balance layer starts with (tuned per robot), for a cyclic
-    motion (a walk) or, with ``one_shot``, a motion that runs once (a kick)."""
+    motion (a walk) or, with ``one_shot``, a motion that runs once (a kick). Foot placement is
+    off in every default (its gains are 0): see ``BalanceGains.place_x``."""
     walk = _DEFAULT_GAINS.get(robot, BalanceGains())
     return _ONE_SHOT_GAINS.get(robot, walk) if one_shot else walk
 
@@ -286,6 +315,7 @@ class BalancedAgent(Agent):
         self.legs = leg_joints(inner.robot)
         self.inner = inner
         cyclic = bool(inner.period_s)
+        track = getattr(inner, "foot_track", None) if cyclic else None
         if gains is None:
             gains = default_gains(inner.robot, one_shot=not cyclic)
             own = getattr(inner, "balance_gains", None)
@@ -300,6 +330,9 @@ class BalancedAgent(Agent):
         self.robot, self.robot_only = inner.robot, inner.robot_only
         self._idx = self.legs.index
         self._knee = {side: self.legs.index[side]["knee_pitch"] for side in _SIDES}
+        # Foot placement: cyclic agents that carry their recording's foot track.
+        self.placement = track is not None and self.gains.placement_on
+        self._kin = FootKinematics(inner.robot) if self.placement else None
         self._reset_state(0.0, (0.0, 0.0))
 
     def _reset_state(self, yaw_rad: float, xy_m: tuple[float, float]) -> None:
@@ -315,6 +348,13 @@ class BalancedAgent(Agent):
         # Sum and count of the heading error samples over the current step (their mean is the
         # step's heading: the torso yaw swings with every step, a single sample aliases).
         self._err_sum, self._err_n = 0.0, 0
+        # Foot placement: each foot's landing shift (x, y) [m] where its current swing (or
+        # support) began, and now; the support foot's error [m] and its filtered rate [m/s].
+        self._place_from = {1.0: np.zeros(2), -1.0: np.zeros(2)}
+        self._place = {1.0: np.zeros(2), -1.0: np.zeros(2)}
+        self._place_err: np.ndarray | None = None
+        self._place_rate = np.zeros(2)
+        self._place_step_t = 0.0
 
     def reset(self, obs: Observation) -> None:
         self.inner.reset(obs)
@@ -398,11 +438,50 @@ class BalancedAgent(Agent):
         """(N,) reference shifts [rad] of the current foot yaw plan."""
         return foot_yaw_shift_rad(self._current_yaw(1.0), self._current_yaw(-1.0), self.legs)
 
+    def placement_shift_m(self, obs: Observation, changed: bool) -> dict[float, np.ndarray]:
+        """Per side the (x, y) landing shift [m] of foot placement this cycle: the swing foot
+        moves toward the capture-point shift over its step, the support foot keeps where it
+        landed (``agents.foot_placement``)."""
+        g, inner = self.gains, self.inner
+        if changed:  # the old swing foot landed with its shift; the new one starts from its own
+            self._place_from = {s: v.copy() for s, v in self._place.items()}
+            self._place_err, self._place_step_t = None, 0.0
+        if inner.cycle_phase is None:
+            return self._place
+        sup = self.support
+        # The track at the swing's start-up amplitude (``NeuralPlayer.start_weights``).
+        track, k = inner.foot_track, 0 if sup > 0 else 1
+        mean = track.mean_m()[k]
+        nominal = mean + inner.swing_weight * (track.at(inner.cycle_phase)[k] - mean)
+        nominal = nominal + self._place[sup]
+        measured = self._kin.feet_m(obs.joint_angles_rad, obs.torso_quat_wxyz)[k]
+        err = nominal - measured  # > 0: the torso is ahead of / left of where it should be
+        if self._place_err is not None:
+            a = CYCLE_S / (g.place_rate_filter_s + CYCLE_S)
+            self._place_rate = (1 - a) * self._place_rate + a * (err - self._place_err) / CYCLE_S
+        self._place_err = err
+        adjust = inner.swing_weight * (
+            np.array([g.place_x, g.place_y]) * err
+            + np.array([g.place_x_rate_s, g.place_y_rate_s]) * self._place_rate
+        )
+        adjust = np.clip(adjust, -g.place_limit_m, g.place_limit_m)
+        if sup * adjust[1] > g.place_inward_m:  # the feet must not meet
+            adjust[1] = sup * g.place_inward_m
+        self._place_step_t += CYCLE_S
+        s = _smooth(min(1.0, self._place_step_t / self._step_s()))
+        start = self._place_from[-sup]
+        self._place[-sup] = start + s * (adjust - start)
+        return self._place
+
     def correction_rad(self, obs: Observation, reference_rad: np.ndarray) -> np.ndarray:
         """(N,) reference shifts [rad] for the inner agent's (N,) references this cycle:
-        tilt feedback plus heading (updates the support leg and step state)."""
+        tilt feedback, foot placement and heading (updates the support leg and step state)."""
         changed = self._update_support(reference_rad)
         shift = self.tilt_correction_rad(obs)
+        if self.placement:
+            place = self.placement_shift_m(obs, changed)
+            maps = self._kin.shift_map(obs.joint_angles_rad)
+            shift = shift + sum(maps[s] @ place[s] for s in _SIDES)
         if self.heading is not None:
             self._err_sum += self.heading_error_rad(obs)
             self._err_n += 1

@@ -19,6 +19,7 @@ import numpy as np
 
 from mimic.agents.balance import BALANCE_GAINS_KEY
 from mimic.agents.base import Agent, JointCommand
+from mimic.agents.foot_placement import FOOT_TRACK_KEY, FootTrack
 from mimic.learn.model import MotionModel
 from mimic.world.base import Observation
 
@@ -74,6 +75,16 @@ class NeuralPlayer(Agent):
         self.ball_offset_m = None if offset is None else (float(offset[0]), float(offset[1]))
         # Gains the balance layer uses around this model (``agents.balance``), if it has its own.
         self.balance_gains = dict(model.metadata.get(BALANCE_GAINS_KEY) or {})
+        # Where the recording had its feet under the torso by phase (cyclic models learned
+        # from a recording with body poses; ``agents.foot_placement``), for the balance layer.
+        track = model.metadata.get(FOOT_TRACK_KEY) if model.cyclic else None
+        self.foot_track = (
+            None if track is None else FootTrack.from_metadata(track, f"{model.name}'s foot track")
+        )
+        # Cyclic models: the phase played this cycle [cycles, 0..1) and the swing's start-up
+        # weight (0..1); None before the first ``act`` and for one-shot models.
+        self.cycle_phase: float | None = None
+        self.swing_weight = 0.0
         self.ended_flag = 0.0
         self._start_s = 0.0
         self._start_rad: np.ndarray | None = None
@@ -96,6 +107,7 @@ class NeuralPlayer(Agent):
         self._start_rad = np.asarray(obs.joint_angles_rad, dtype=float).copy()
         self.done = False
         self.ended_flag = 0.0
+        self.cycle_phase, self.swing_weight = None, 0.0
 
     def reference_at(self, t_s: float) -> np.ndarray:
         """(N + 1,) network output at ``t_s`` [s] of playing (phase-scaled for cyclic models; no
@@ -136,6 +148,10 @@ class NeuralPlayer(Agent):
 
     def act(self, obs: Observation) -> JointCommand:
         t = obs.time_s - self._start_s
+        if self.model.cyclic:
+            _, self.swing_weight = self.start_weights(t)
+            played_s = max(0.0, t - self.stance_s) * self.speed_rate
+            self.cycle_phase = (played_s % self.model.period_s) / self.model.period_s
         out = self.cyclic_reference(t) if self.model.cyclic else self.reference_at(t)
         n = self.model.num_joints
         self.reference_rad = out[:n]

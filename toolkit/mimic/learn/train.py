@@ -281,6 +281,7 @@ def training_dataset(
         MimicError: ``compensated`` asked for a PD-motor robot's recording without a torso
             pose.
     """
+    from mimic.agents.foot_placement import FOOT_TRACK_KEY
     from mimic.errors import DatasetError
     from mimic.learn.compensate import compensate_references
     from mimic.learn.dataset import as_cyclic, cut_dataset, dataset_from_file, detect_period_s
@@ -340,7 +341,35 @@ def training_dataset(
             raise DatasetError(
                 f"--period must be a number of seconds or 'auto', got {period!r}"
             ) from None
-    return as_cyclic(ds, period_s)
+    ds = as_cyclic(ds, period_s)
+    track = _foot_track(observed_ds, tf, robot, start_s, end_s, period_s) if observed else None
+    if track is None:
+        return ds
+    return replace(ds, metadata={**ds.metadata, FOOT_TRACK_KEY: track.to_metadata()})
+
+
+def _foot_track(observed_ds, tf, robot, start_s, end_s, period_s):
+    """The recorded cycle's foot track (``agents.foot_placement``: where the feet were under
+    the torso by phase, for the balance layer's foot placement), from the observed angles and
+    the torso's orientation on ``/tf`` over the cut, timed as ``cut_dataset`` times it; None
+    without a torso pose or two legs."""
+    from mimic.agents.foot_placement import foot_track
+
+    if tf is None:
+        return None
+    torso = tf.torso_at_samples(robot, observed_ds.time_s)
+    if torso is None:
+        return None
+    t = observed_ds.time_s
+    lo = 0.0 if start_s is None else float(start_s)
+    hi = float(t[-1]) if end_s is None else float(end_s)
+    keep = (t >= lo - 1e-9) & (t <= hi + 1e-9)
+    try:
+        return foot_track(
+            t[keep] - t[keep][0], observed_ds.angles_rad[keep], torso[1][keep], robot, period_s
+        )
+    except MimicError:
+        return None
 
 
 def _interp_columns(t_new: np.ndarray, t: np.ndarray, values: np.ndarray) -> np.ndarray:
