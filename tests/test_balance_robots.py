@@ -12,6 +12,7 @@ from mimic.agents.balance import (
     BalancedAgent,
     BalanceGains,
     default_gains,
+    default_heading,
     foot_yaw_shift_rad,
     leg_joints,
 )
@@ -93,7 +94,35 @@ def test_a_kick_gets_its_robots_one_shot_gains_and_a_walk_its_walk_gains():
     assert kick_gains == default_gains("t1", one_shot=True)
     assert walk_gains == default_gains("t1")
     assert kick_gains.roll > walk_gains.roll
-    assert (kick_gains.pitch, kick_gains.limit_rad) == (walk_gains.pitch, walk_gains.limit_rad)
+    # The walk's hip holds the torso; the kick's swing leg is doing the motion.
+    assert walk_gains.torso_pitch > 0 and walk_gains.torso_roll > 0
+    assert kick_gains.torso_pitch == kick_gains.torso_roll == 0
     assert default_gains("nao", one_shot=True) == default_gains("nao") == BalanceGains()
     # Gains handed in win over both.
     assert BalancedAgent(kick, BalanceGains(roll=0.1)).gains.roll == 0.1
+
+
+def test_a_walk_that_turns_by_itself_gets_a_standing_turn_against_it():
+    """The T1's heading learns a standing turn per step (``HeadingGains.yaw_integral``): a
+    heading error that stays grows it by ``yaw_integral`` x the error each step, up to
+    ``max_bias_rad``, on top of the proportional turn; the NAO's has none."""
+    world = MujocoWorld("t1")
+    world.reset()
+    walk = HoldPose(np.asarray(T1.stand_pose_rad), "t1")
+    walk.period_s = 0.84
+    agent = BalancedAgent(walk)
+    h = agent.heading
+    assert h == default_heading("t1") and h.yaw_integral > 0
+    assert default_heading("nao").yaw_integral == 0
+    obs = world.observe()
+    agent.reset(obs)
+    agent.heading_error_rad = lambda _obs: 0.2  # the torso keeps turning left of its aim
+    biases = []
+    for _ in range(8):
+        agent._begin_step(obs)
+        biases.append(agent._turn_bias)
+        turn = agent._yaw_to[-agent.support] * 2  # the swing foot lands turned by half
+        assert turn == pytest.approx(agent._turn_bias - h.max_turn_rad)  # both to the right
+    steps = np.diff([0.0, *biases])
+    assert steps[0] == pytest.approx(-h.yaw_integral * 0.2)
+    assert biases[-1] == pytest.approx(-h.max_bias_rad)  # and no further

@@ -110,3 +110,47 @@ def test_a_bad_track_is_one_line():
         FootTrack.from_metadata({"left_m": [[0.1, 0.1]]})
     with pytest.raises(MimicError, match="foot track"):
         FootTrack.from_metadata({"left_m": "x"})
+
+
+@pytest.mark.parametrize("lean", ["forward", "left"])
+def test_the_support_hip_turns_a_leaning_torso_back_over_the_leg(walk, lean):
+    """Torso attitude (``torso_pitch``, ``torso_roll``): a torso leaning forward over a
+    planted leg stands at a flexed hip; the support hip extends, which in the torso's frame
+    moves the foot back (planted, the torso turns back up). Leaning left, the foot moves
+    right. The swing leg is left to the rest of the layer."""
+    world = MujocoWorld("t1")
+    world.reset()
+    kin = FootKinematics("t1")
+    model = with_balance_gains(walk[2], {"torso_pitch": 0.8, "torso_roll": 0.8})
+    agent = BalancedAgent(NeuralPlayer(model, stance_s=0.0, start_ramp_s=0.0))
+    obs = world.observe()
+    agent.reset(obs)
+    angle = 0.1
+    quat = (
+        np.array([math.cos(angle / 2), 0.0, math.sin(angle / 2), 0.0])  # nose down
+        if lean == "forward"
+        else np.array([math.cos(angle / 2), -math.sin(angle / 2), 0.0, 0.0])  # leaning left
+    )
+    leaning = replace(obs, torso_quat_wxyz=quat, gyro_rad_s=np.zeros(3))
+    agent.act(leaning)
+    with_attitude = agent.tilt_correction_rad(leaning)
+    no_attitude = with_balance_gains(walk[2], {"torso_pitch": 0.0, "torso_roll": 0.0})
+    without = BalancedAgent(NeuralPlayer(no_attitude, stance_s=0.0, start_ramp_s=0.0))
+    without.reset(obs)
+    without.act(leaning)
+    assert without.support == agent.support
+    q = NeuralPlayer(walk[2]).mean_pose_rad()
+    upright = (1.0, 0.0, 0.0, 0.0)
+    k = 0 if agent.support > 0 else 1
+    moved = (
+        kin.feet_m(q + with_attitude, upright)[k]
+        - kin.feet_m(q + without.tilt_correction_rad(leaning), upright)[k]
+    )
+    axis = 0 if lean == "forward" else 1
+    # About leg length (0.5 m) x hip turn (0.8 x 0.1 rad): 4 cm; at least 1 cm.
+    assert moved[axis] < -0.01
+    # The swing leg gets the same as without the attitude terms.
+    other = kin.feet_m(q + with_attitude, upright)[1 - k]
+    np.testing.assert_allclose(
+        other, kin.feet_m(q + without.tilt_correction_rad(leaning), upright)[1 - k], atol=1e-9
+    )

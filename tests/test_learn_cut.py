@@ -11,7 +11,14 @@ from typer.testing import CliRunner
 
 from mimic.cli.main import app
 from mimic.errors import DatasetError
-from mimic.learn.dataset import as_cyclic, cut_dataset, dataset_from_frame, detect_period_s
+from mimic.learn.dataset import (
+    NON_REPEATING_RAD,
+    as_cyclic,
+    cut_dataset,
+    dataset_from_frame,
+    detect_period_s,
+    drop_non_repeating,
+)
 from mimic.learn.model_file import load_model
 from mimic.learn.train import training_dataset
 from mimic.recording import layout as L
@@ -50,6 +57,32 @@ def test_no_period_in_motion_that_does_not_repeat_or_is_too_short():
         detect_period_s(t, q)
     with pytest.raises(DatasetError, match="needs at least 0.6 s"):
         detect_period_s(t[:10], q[:10])
+
+
+def test_a_cycle_leaves_out_what_does_not_repeat_it():
+    """A black-box walk ends however the other team's process ends: here the robot, no longer
+    driven, sags over its last second. Those samples, and a single glitch, are left out; the
+    cycle's own samples all stay."""
+    import polars as pl
+
+    t, q = _gait(0.84, 9.0)
+    q[-25:] += np.linspace(0, 0.6, 25)[:, None]  # the fall
+    q[100, 3] += 0.2  # a glitch
+    frame = pl.DataFrame({"time_s": t, **{n: q[:, i] for i, n in enumerate(NAO.joint_names)}})
+    ds = as_cyclic(dataset_from_frame(frame, metadata={"source": "rec.mcap"}), 0.84)
+    kept = drop_non_repeating(ds)
+    dropped = np.setdiff1d(np.round(t, 4), np.round(kept.time_s, 4))
+    assert kept.metadata["non_repeating"] == len(dropped)
+    assert round(t[100], 4) in dropped  # the glitch
+    assert np.all(dropped[dropped != round(t[100], 4)] > t[-25] - 1e-9)  # the fall's part
+    # The fall's first samples stay within the limit (0.025 rad more each): the rest is out.
+    within = int(NON_REPEATING_RAD / 0.025)
+    assert 25 - within - 2 <= len(dropped) - 1 <= 25 - within + 1
+    # One-shot motions are what they are; a motion that is not one cycle is refused.
+    one_shot = dataset_from_frame(frame)
+    assert drop_non_repeating(one_shot) is one_shot
+    with pytest.raises(DatasetError, match="not one cyclic motion"):
+        drop_non_repeating(as_cyclic(dataset_from_frame(frame), 0.61))
 
 
 def test_a_cut_keeps_its_samples_timed_from_zero_and_ends_the_motion_there():

@@ -29,6 +29,9 @@ __all__ = ["NeuralPlayer", "DEFAULT_STANCE_S", "DEFAULT_START_RAMP_S"]
 DEFAULT_STANCE_S = 0.4
 #: Cyclic models: time over which the swing grows to the learned amplitude [s].
 DEFAULT_START_RAMP_S = 3.0
+#: Robots whose walks ramp up over another time [s]: the T1's, searched with its balance gains
+#: (``agents.balance``).
+_START_RAMP_S = {"t1": 3.7}
 
 # Phases sampled to find a cyclic model's mean pose.
 _MEAN_SAMPLES = 64
@@ -49,7 +52,7 @@ class NeuralPlayer(Agent):
     they never finish by themselves. They start phase-locked (module docstring): the pose
     blends from the start angles into the cycle's mean pose over ``stance_s`` [s], then the
     phase starts at 0 and the swing around the mean pose ramps from 0 to 1 over
-    ``start_ramp_s`` [s] (both ignored by one-shot models).
+    ``start_ramp_s`` [s] (default: the robot's; both ignored by one-shot models).
     """
 
     team = "mimic"
@@ -60,12 +63,14 @@ class NeuralPlayer(Agent):
         speed_rate: float = 1.0,
         max_overrun_s: float = 1.0,
         stance_s: float = DEFAULT_STANCE_S,
-        start_ramp_s: float = DEFAULT_START_RAMP_S,
+        start_ramp_s: float | None = None,
     ) -> None:
         super().__init__()
         self.model = model
         self.robot = model.robot
         self.speed_rate, self.max_overrun_s = speed_rate, max_overrun_s
+        if start_ramp_s is None:
+            start_ramp_s = _START_RAMP_S.get(model.robot, DEFAULT_START_RAMP_S)
         self.stance_s, self.start_ramp_s = float(stance_s), float(start_ramp_s)
         self.name = model.name
         # A learned get-up starts lying, as its recording did.

@@ -128,6 +128,7 @@ def register(app: typer.Typer) -> None:
         from mimic.errors import DatasetError, MimicError
         from mimic.files import check_outputs
         from mimic.learn.checks import fit_warnings, input_warnings
+        from mimic.learn.dataset import NON_REPEATING_RAD
         from mimic.learn.model_file import SUFFIX, save_model
         from mimic.learn.presets import get_preset
         from mimic.learn.train import TrainConfig, train_models, training_dataset
@@ -176,6 +177,14 @@ def register(app: typer.Typer) -> None:
                 training_dataset(p, topic, target, start_s=start, end_s=end, period=period)
                 for p in inputs
             ]
+        for d in datasets:
+            if d.metadata.get("non_repeating"):
+                console.print(
+                    f"{d.name}: left out {d.metadata['non_repeating']} of "
+                    f"{d.n_samples + d.metadata['non_repeating']} samples that do not repeat the "
+                    f"cycle (more than {NON_REPEATING_RAD} rad from its median at their phase)",
+                    highlight=False,
+                )
         for warning in (w for d in datasets for w in input_warnings(d)):
             if strict:
                 raise DatasetError(f"{warning} (--strict refuses such input)")

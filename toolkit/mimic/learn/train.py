@@ -284,7 +284,13 @@ def training_dataset(
     from mimic.agents.foot_placement import FOOT_TRACK_KEY
     from mimic.errors import DatasetError
     from mimic.learn.compensate import compensate_references
-    from mimic.learn.dataset import as_cyclic, cut_dataset, dataset_from_file, detect_period_s
+    from mimic.learn.dataset import (
+        as_cyclic,
+        cut_dataset,
+        dataset_from_file,
+        detect_period_s,
+        drop_non_repeating,
+    )
     from mimic.recording.layout import JOINT_STATES
     from mimic.robot.actuators import PDMotors, SpeedServos
     from mimic.robot.registry import get_robot
@@ -341,7 +347,7 @@ def training_dataset(
             raise DatasetError(
                 f"--period must be a number of seconds or 'auto', got {period!r}"
             ) from None
-    ds = as_cyclic(ds, period_s)
+    ds = drop_non_repeating(as_cyclic(ds, period_s))
     track = _foot_track(observed_ds, tf, robot, start_s, end_s, period_s) if observed else None
     if track is None:
         return ds
