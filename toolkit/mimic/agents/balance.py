@@ -509,7 +509,7 @@ class BalancedAgent(Agent):
         sup = self.support
         # The track at the swing's start-up amplitude (``NeuralPlayer.start_weights``).
         track, k = inner.foot_track, 0 if sup > 0 else 1
-        mean = track.mean_m()[k]
+        mean = track.mean_m[k]
         nominal = mean + inner.swing_weight * (track.at(inner.cycle_phase)[k] - mean)
         nominal = nominal + self._place[sup]
         measured = self._kin.feet_m(obs.joint_angles_rad, obs.torso_quat_wxyz)[k]

@@ -24,12 +24,14 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from functools import cached_property
 
 import mujoco
 import numpy as np
 
 from mimic.errors import MimicError
 from mimic.geometry import yaw_from_quat
+from mimic.learn.dataset import bin_count, phase_bins
 from mimic.robot.model import RobotDescription
 from mimic.robot.registry import get_robot
 
@@ -127,6 +129,7 @@ class FootTrack:
         both = np.stack([self.left_m, self.right_m])
         return (1 - w) * both[:, i] + w * both[:, j]
 
+    @cached_property
     def mean_m(self) -> np.ndarray:
         """(2, 2): left and right (x, y) averaged over the cycle [m]."""
         return np.stack([self.left_m.mean(axis=0), self.right_m.mean(axis=0)])
@@ -162,14 +165,10 @@ def foot_track(
     interpolated around the cycle."""
     kin = FootKinematics(robot)
     feet = np.stack([kin.feet_m(q, quat) for q, quat in zip(angles_rad, torso_quat_wxyz)])
-    time_s = np.asarray(time_s, float)
-    # No more bins than samples per cycle: a cycle that is a whole number of samples long puts
-    # every cycle's samples at the same phases, and a bin between them would stay empty.
-    bins = max(2, min(bins, int(period_s / float(np.median(np.diff(time_s))))))
-    phase = (time_s / period_s) % 1.0
-    k = np.minimum((phase * bins + 0.5).astype(int), bins) % bins  # nearest bin centre
+    bins = bin_count(time_s, period_s, bins)
+    k = phase_bins(time_s, period_s, bins)
     # Medians: a recording may end with a stumble or a fall that is no part of the cycle.
-    have = np.array([np.any(k == b) for b in range(bins)])
+    have = np.bincount(k, minlength=bins) > 0
     if have.sum() < 2:
         raise MimicError("a foot track needs samples at two phases of the cycle at least")
     median = np.stack([np.median(feet[k == b], axis=0) for b in np.flatnonzero(have)])

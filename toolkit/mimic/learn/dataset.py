@@ -31,6 +31,8 @@ __all__ = [
     "detect_period_s",
     "as_cyclic",
     "drop_non_repeating",
+    "phase_bins",
+    "bin_count",
     "NON_REPEATING_RAD",
 ]
 
@@ -355,6 +357,23 @@ def as_cyclic(ds: Dataset, period_s: float) -> Dataset:
     return replace(ds, targets=targets, period_s=float(period_s))
 
 
+def phase_bins(time_s: np.ndarray, period_s: float, most: int | None = None) -> np.ndarray:
+    """(T,) the phase bin of each sample of a cyclic motion: the cycle cut into as many bins
+    as it holds samples (at most ``most``), each sample in the bin whose centre is nearest its
+    phase ``time_s / period_s``. No more bins than samples per cycle: a cycle that is a whole
+    number of samples long puts every cycle's samples at the same phases, and a finer bin
+    between them would stay empty (``bin_count``)."""
+    t = np.asarray(time_s, float)
+    bins = bin_count(t, period_s, most)
+    return np.round((t / period_s % 1.0) * bins).astype(int) % bins
+
+
+def bin_count(time_s: np.ndarray, period_s: float, most: int | None = None) -> int:
+    """Phase bins of a cycle sampled at ``time_s``: its samples per cycle (>= 2, <= ``most``)."""
+    bins = max(2, int(period_s / float(np.median(np.diff(np.asarray(time_s, float))))))
+    return bins if most is None else max(2, min(bins, most))
+
+
 def drop_non_repeating(ds: Dataset, limit_rad: float = NON_REPEATING_RAD) -> Dataset:
     """A cyclic dataset without the samples that do not repeat: those whose targets differ by
     more than ``limit_rad`` in some joint from the median of the samples at the same phase
@@ -368,11 +387,9 @@ def drop_non_repeating(ds: Dataset, limit_rad: float = NON_REPEATING_RAD) -> Dat
     if ds.period_s is None or ds.n_samples < 3:
         return ds
     t, q = ds.time_s, ds.targets[:, :-1]
-    step_s = float(np.median(np.diff(t)))
-    bins = max(2, int(ds.period_s / step_s))
-    k = np.round((t / ds.period_s % 1.0) * bins).astype(int) % bins
+    k = phase_bins(t, ds.period_s)
     deviation = np.zeros(len(t))
-    for b in range(bins):
+    for b in range(bin_count(t, ds.period_s)):
         at = k == b
         if at.sum() >= 3:
             deviation[at] = np.abs(q[at] - np.median(q[at], axis=0)).max(axis=1)

@@ -357,23 +357,20 @@ def training_dataset(
 def _foot_track(observed_ds, tf, robot, start_s, end_s, period_s):
     """The recorded cycle's foot track (``agents.foot_placement``: where the feet were under
     the torso by phase, for the balance layer's foot placement), from the observed angles and
-    the torso's orientation on ``/tf`` over the cut, timed as ``cut_dataset`` times it; None
-    without a torso pose or two legs."""
+    the torso's orientation on ``/tf`` over the cut (``cut_dataset``, timed as it times the
+    cycle); None without a torso pose or two legs."""
     from mimic.agents.foot_placement import foot_track
+    from mimic.learn.dataset import cut_dataset
 
     if tf is None:
         return None
-    torso = tf.torso_at_samples(robot, observed_ds.time_s)
+    seen = cut_dataset(observed_ds, start_s, end_s)
+    first_s = (seen.metadata.get("cut_s") or [0.0])[0]
+    torso = tf.torso_at_samples(robot, seen.time_s + first_s)
     if torso is None:
         return None
-    t = observed_ds.time_s
-    lo = 0.0 if start_s is None else float(start_s)
-    hi = float(t[-1]) if end_s is None else float(end_s)
-    keep = (t >= lo - 1e-9) & (t <= hi + 1e-9)
     try:
-        return foot_track(
-            t[keep] - t[keep][0], observed_ds.angles_rad[keep], torso[1][keep], robot, period_s
-        )
+        return foot_track(seen.time_s, seen.angles_rad, torso[1], robot, period_s)
     except MimicError:
         return None
 
