@@ -10,9 +10,11 @@ command line):
 1. The other team plays on a server mimic hosts while ``mimic record --server`` records it:
    the walk 12 s from a standing start (seed 0), the kick placed behind the ball (seeds 0 to
    ``--kick-recordings`` - 1, each starting 0-3 cycles after its robot is set down).
-2. ``mimic train``: the walk's steady part as one cycle (``--start 4 --end 11.5 --period
-   auto``), the kick from its start to 0.35 s after it ended (``--merge`` of its recordings); each as
-   reached angles (``--target reached``, the study's method) and compensated (the default).
+2. ``mimic train``: the walk's steady part as one symmetric cycle (``--start 4 --end 11.5
+   --period auto --symmetric``: each step learned with its mirrored twin, so the copy does
+   not replay the turns and leans of the recorded run), the kick from its start to 0.35 s
+   after it ended (``--merge`` of its recordings); each as reached angles (``--target
+   reached``, the study's method) and compensated (the default).
 3. With ``--improve-budget N``: the compensated kick copy given the balance gains found by
    hand (``START_GAINS``: it stands, kicking short) as ``DIR/kick_start.mimic``, then
    ``mimic improve kick_start.mimic+balance --world league`` (its time warp, leg offsets and
@@ -76,7 +78,8 @@ def learn_walk(out: Path) -> list[str]:
     for target, model in (("reached", "walk_reached.mimic"), ("compensated", "walk.mimic")):
         mimic(
             "train", str(seen), "--start", str(WALK_START_S), "--end", str(WALK_END_S),
-            "--period", "auto", "--target", target, "-o", str(out / model), "--force",
+            "--period", "auto", "--symmetric", "--target", target, "-o", str(out / model),
+            "--force",
         )  # fmt: skip
     print(f"the walk's period, found in its angles: {load_model(out / model).period_s:.3f} s")
     models = [str(out / m) for m in ("walk_reached.mimic", "walk.mimic")]

@@ -116,13 +116,15 @@ def test_a_walk_that_turns_by_itself_gets_a_standing_turn_against_it():
     assert default_heading("nao").yaw_integral == 0
     obs = world.observe()
     agent.reset(obs)
-    agent.heading_error_rad = lambda _obs: 0.2  # the torso keeps turning left of its aim
+    err = 0.3  # the torso keeps turning left of its aim [rad]
+    agent.heading_error_rad = lambda _obs: err
+    proportional = max(-h.yaw_gain * err, -h.max_turn_rad)
     biases = []
     for _ in range(8):
         agent._begin_step(obs)
         biases.append(agent._turn_bias)
         turn = agent._yaw_to[-agent.support] * 2  # the swing foot lands turned by half
-        assert turn == pytest.approx(agent._turn_bias - h.max_turn_rad)  # both to the right
+        assert turn == pytest.approx(agent._turn_bias + proportional)  # both to the right
     steps = np.diff([0.0, *biases])
-    assert steps[0] == pytest.approx(-h.yaw_integral * 0.2)
+    assert steps[0] == pytest.approx(-h.yaw_integral * err)
     assert biases[-1] == pytest.approx(-h.max_bias_rad)  # and no further

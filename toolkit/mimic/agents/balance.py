@@ -130,26 +130,26 @@ class BalanceGains:
 
 
 # Each robot's gains (a robot not listed starts with the NAO's). The T1's: CMA-ES (``cmaes``,
-# population 12) on the compensated black-box copy of the T1 other team's walk
-# (``benchmarks/league_copies.py``), each candidate walking 10 m from a standing start in the
-# league; score: 10 m reached, speed, Y error beyond 0.25 m, falls. First 15 generations over
-# the tilt gains, the swing-hip share, the torso attitude terms, the heading gains and the
-# start ramp (3 seeds, one copy), then 12 over the roll terms, the heading gains (with the
-# standing turn) and the start ramp on two copies from two recordings (2 seeds each; one
-# copy turned left by itself and drifted 3.3 m with the heading defaults). The tilt gains
-# searched before the attitude terms existed (pitch 0.21, roll 0.23, rates 0.084 and 0.19 s)
-# fell in every run, within 4 s (docs/tuning-notes.md).
+# population 12) on symmetric compensated black-box copies of the T1 other team's walk
+# (``benchmarks/league_copies.py``, ``mimic train --symmetric``), each candidate walking 10 m
+# from a standing start in the league; score: speed, Y error beyond 0.2 m, falls. 13
+# generations over the tilt gains, the swing-hip share, the torso attitude terms, the heading
+# gains and the start ramp from the earlier defaults, then 9 with speed weighted 5x more, each
+# candidate on four copies from four recordings (one run each, new seeds every generation).
+# On seven copies the search never saw: no fall, 0.89-0.92 of the original's speed, Y 0.02-0.27
+# m. Gains searched on copies that were not symmetric fell on other copies: a copy replays its
+# recording's own leans and turns (docs/tuning-notes.md).
 _DEFAULT_GAINS: dict[str, BalanceGains] = {
     "nao": BalanceGains(),
     "t1": BalanceGains(
-        pitch=0.219,
-        roll=0.308,
-        pitch_rate_s=0.099,
-        roll_rate_s=-0.08,
-        limit_rad=0.354,
-        hip_share=0.139,
-        torso_pitch=0.557,
-        torso_roll=0.689,
+        pitch=0.161,
+        roll=0.674,
+        pitch_rate_s=0.095,
+        roll_rate_s=-0.018,
+        limit_rad=0.268,
+        hip_share=0.12,
+        torso_pitch=0.334,
+        torso_roll=0.96,
     ),
 }
 # One-shot motions (a kick) where a robot needs other gains than its walk. The T1's kick
@@ -311,14 +311,14 @@ def with_balance_gains(model, fields: dict):
 
 
 #: Each robot's heading gains (a robot not listed has the ``HeadingGains`` defaults). The
-#: T1's: the second search above (smaller turns per step, a standing turn of up to 0.14 rad).
+#: T1's: the search above (a standing turn of up to 0.06 rad per step).
 _DEFAULT_HEADING: dict[str, HeadingGains] = {
     "t1": HeadingGains(
-        yaw_gain=0.422,
-        line_gain=1.275,
-        max_turn_rad=0.042,
-        yaw_integral=0.119,
-        max_bias_rad=0.139,
+        yaw_gain=0.314,
+        line_gain=0.937,
+        max_turn_rad=0.072,
+        yaw_integral=0.164,
+        max_bias_rad=0.062,
     ),
 }
 

@@ -134,6 +134,17 @@ class FootTrack:
         """(2, 2): left and right (x, y) averaged over the cycle [m]."""
         return np.stack([self.left_m.mean(axis=0), self.right_m.mean(axis=0)])
 
+    def symmetric(self) -> FootTrack:
+        """The track of a left-right symmetric cycle: each foot averaged with the other foot
+        half a cycle later, mirrored (y negated), as ``learn.dataset.symmetric_cycle`` does
+        with the angles."""
+        n = len(self.left_m)
+        later = np.stack([self.at(k / n + 0.5) for k in range(n)])  # (bins, 2 feet, 2)
+        mirror = np.array([1.0, -1.0])
+        return FootTrack(
+            (self.left_m + later[:, 1] * mirror) / 2, (self.right_m + later[:, 0] * mirror) / 2
+        )
+
     def to_metadata(self) -> dict:
         return {
             "left_m": np.round(self.left_m, 5).tolist(),

@@ -31,7 +31,7 @@ DEFAULT_STANCE_S = 0.4
 DEFAULT_START_RAMP_S = 3.0
 #: Robots whose walks ramp up over another time [s]: the T1's, searched with its balance gains
 #: (``agents.balance``).
-_START_RAMP_S = {"t1": 3.7}
+_START_RAMP_S = {"t1": 3.84}
 
 # Phases sampled to find a cyclic model's mean pose.
 _MEAN_SAMPLES = 64

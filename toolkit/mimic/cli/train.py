@@ -100,6 +100,15 @@ def register(app: typer.Typer) -> None:
                 "angles (default: as the recording says)."
             ),
         ] = None,
+        symmetric: Annotated[
+            bool,
+            typer.Option(
+                "--symmetric",
+                help="Learn a cyclic motion left-right symmetric: each sample joined by its "
+                "mirror image half a cycle later (a straight walk: cancels the recording's own "
+                "turns and leans).",
+            ),
+        ] = False,
         merge: Annotated[
             bool,
             typer.Option(
@@ -147,10 +156,10 @@ def register(app: typer.Typer) -> None:
         if merge:
             from mimic.learn.merge import merged_training_dataset
 
-            if period is not None:
+            if period is not None or symmetric:
                 raise MimicError(
                     "--merge pools one-shot motions; train a cyclic one from one recording "
-                    "with --period"
+                    "with --period (and --symmetric)"
                 )
             if out.suffix != SUFFIX:
                 raise MimicError(f"--merge writes one model: -o must end in {SUFFIX}, not {out}")
@@ -174,14 +183,18 @@ def register(app: typer.Typer) -> None:
                     )
         else:
             datasets = [
-                training_dataset(p, topic, target, start_s=start, end_s=end, period=period)
+                training_dataset(
+                    p, topic, target, start_s=start, end_s=end, period=period, symmetric=symmetric
+                )
                 for p in inputs
             ]
         for d in datasets:
             if d.metadata.get("non_repeating"):
+                # A symmetric cycle holds every kept sample twice (itself and its mirror).
+                kept = d.n_samples // (2 if d.metadata.get("symmetric") else 1)
                 console.print(
                     f"{d.name}: left out {d.metadata['non_repeating']} of "
-                    f"{d.n_samples + d.metadata['non_repeating']} samples that do not repeat the "
+                    f"{kept + d.metadata['non_repeating']} samples that do not repeat the "
                     f"cycle (more than {NON_REPEATING_RAD} rad from its median at their phase)",
                     highlight=False,
                 )

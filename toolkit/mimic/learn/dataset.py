@@ -31,6 +31,7 @@ __all__ = [
     "detect_period_s",
     "as_cyclic",
     "drop_non_repeating",
+    "symmetric_cycle",
     "phase_bins",
     "bin_count",
     "NON_REPEATING_RAD",
@@ -408,4 +409,35 @@ def drop_non_repeating(ds: Dataset, limit_rad: float = NON_REPEATING_RAD) -> Dat
         time_s=t[keep],
         targets=ds.targets[keep],
         metadata={**ds.metadata, "non_repeating": dropped},
+    )
+
+
+def symmetric_cycle(ds: Dataset) -> Dataset:
+    """A cyclic dataset made left-right symmetric: every sample joined by its mirror image
+    (``RobotDescription.mirror_angles``: left and right legs swapped, rolls and yaws negated)
+    half a cycle later. The network then learns the mean of each step and its mirrored twin.
+
+    Why: a straight walk's second step is its first, mirrored. A black-box recording also
+    holds the other team's own corrections of that run (a lean to one side, a turn it was
+    making), and a copy that replays them drifts and turns by itself; the mirrored samples
+    cancel them. Only for motions meant to be symmetric (a straight walk, walking on the spot),
+    not a curve. ``metadata["symmetric"]`` is set.
+
+    Raises:
+        DatasetError: the dataset is not cyclic.
+    """
+    if ds.period_s is None:
+        raise DatasetError(
+            f"{_where(ds.metadata)}: only a cyclic motion can be mirrored half a cycle on "
+            "(give --period)"
+        )
+    mirrored = ds.targets.copy()
+    mirrored[:, :-1] = get_robot(ds.robot).mirror_angles(ds.angles_rad)
+    time_s = np.concatenate([ds.time_s, ds.time_s + ds.period_s / 2])
+    by_time = np.argsort(time_s, kind="stable")
+    return replace(
+        ds,
+        time_s=time_s[by_time],
+        targets=np.concatenate([ds.targets, mirrored])[by_time],
+        metadata={**ds.metadata, "symmetric": True},
     )

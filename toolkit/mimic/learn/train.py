@@ -262,13 +262,16 @@ def training_dataset(
     start_s: float | None = None,
     end_s: float | None = None,
     period: float | str | None = None,
+    symmetric: bool = False,
 ) -> Dataset:
     """Dataset from a recording or study table, with the training target chosen.
 
     ``start_s``/``end_s`` cut the recording [s from its first sample] after the targets are
     made (``cut_dataset``); ``period`` makes the cut one cyclic motion: a period [s], or
     ``"auto"`` to find it in the angles (``detect_period_s``; a black-box recording of a walk
-    does not say its period).
+    does not say its period). ``symmetric`` joins every sample of a cyclic motion by its mirror
+    image half a cycle later (``learn.dataset.symmetric_cycle``; a straight walk), and its foot
+    track likewise.
 
     ``target``: ``reached`` (learn the recorded values), ``compensated`` (learn the references
     that reproduce the recorded angles through the robot's motors: its speed servos, see
@@ -290,6 +293,7 @@ def training_dataset(
         dataset_from_file,
         detect_period_s,
         drop_non_repeating,
+        symmetric_cycle,
     )
     from mimic.recording.layout import JOINT_STATES
     from mimic.robot.actuators import PDMotors, SpeedServos
@@ -334,7 +338,7 @@ def training_dataset(
         if offset is not None:
             ds = replace(ds, metadata={**ds.metadata, "ball_offset_m": offset})
     if period is None:
-        return ds
+        return symmetric_cycle(ds) if symmetric else ds
     if period == "auto":
         # The period of what the robot did (its recorded values), not of the targets.
         seen = cut_dataset(observed_ds, start_s, end_s)
@@ -348,9 +352,13 @@ def training_dataset(
                 f"--period must be a number of seconds or 'auto', got {period!r}"
             ) from None
     ds = drop_non_repeating(as_cyclic(ds, period_s))
+    if symmetric:
+        ds = symmetric_cycle(ds)
     track = _foot_track(observed_ds, tf, robot, start_s, end_s, period_s) if observed else None
     if track is None:
         return ds
+    if symmetric:
+        track = track.symmetric()
     return replace(ds, metadata={**ds.metadata, FOOT_TRACK_KEY: track.to_metadata()})
 
 
