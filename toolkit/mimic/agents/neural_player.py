@@ -23,7 +23,7 @@ from mimic.agents.foot_placement import FOOT_TRACK_KEY, FootTrack
 from mimic.learn.model import MotionModel
 from mimic.world.base import Observation
 
-__all__ = ["NeuralPlayer", "DEFAULT_STANCE_S", "DEFAULT_START_RAMP_S"]
+__all__ = ["NeuralPlayer", "DEFAULT_STANCE_S", "DEFAULT_START_RAMP_S", "WALK_SPEED_KEY"]
 
 #: Cyclic models: time to bend from the start pose into the cycle's mean pose [s].
 DEFAULT_STANCE_S = 0.4
@@ -35,6 +35,12 @@ _START_RAMP_S = {"t1": 3.84}
 
 # Phases sampled to find a cyclic model's mean pose.
 _MEAN_SAMPLES = 64
+#: Where a cyclic model learned step by step carries the speed its recording walked [m/s].
+WALK_SPEED_KEY = "walk_speed_m_s"
+#: Commanded speed: the phase rate changes by this share of the relative speed error per gait
+#: cycle, within ``RATE_RANGE`` of the learned rate (T1 copies fell at 1.15-1.2).
+RATE_GAIN = 0.5
+RATE_RANGE = (0.8, 1.1)
 
 
 def _smooth_step(x: float) -> float:
@@ -52,7 +58,11 @@ class NeuralPlayer(Agent):
     they never finish by themselves. They start phase-locked (module docstring): the pose
     blends from the start angles into the cycle's mean pose over ``stance_s`` [s], then the
     phase starts at 0 and the swing around the mean pose ramps from 0 to 1 over
-    ``start_ramp_s`` [s] (default: the robot's; both ignored by one-shot models).
+    ``start_ramp_s`` [s] (default: the robot's; both ignored by one-shot models). A cyclic
+    walk with a commanded forward speed ``speed_m_s`` [m/s] (default: the speed its recording
+    walked, for models learned step by step) holds it by its phase rate: once per gait cycle
+    after the start-up, the rate moves by ``RATE_GAIN`` of the relative speed error, within
+    ``RATE_RANGE`` (the torso's travel from ``Observation.torso_pos_m``).
     """
 
     team = "mimic"
@@ -64,6 +74,7 @@ class NeuralPlayer(Agent):
         max_overrun_s: float = 1.0,
         stance_s: float = DEFAULT_STANCE_S,
         start_ramp_s: float | None = None,
+        speed_m_s: float | None = None,
     ) -> None:
         super().__init__()
         self.model = model
@@ -90,6 +101,14 @@ class NeuralPlayer(Agent):
         # weight (0..1); None before the first ``act`` and for one-shot models.
         self.cycle_phase: float | None = None
         self.swing_weight = 0.0
+        # A cyclic walk's commanded forward speed [m/s]: the phase rate follows it once the
+        # start-up is done (``_hold_speed``). Default: the speed its recording walked, for a
+        # model that says it (learned step by step); None plays at ``speed_rate``.
+        if speed_m_s is None and model.cyclic:
+            speed_m_s = model.metadata.get(WALK_SPEED_KEY)
+        self.speed_m_s = None if speed_m_s is None else float(speed_m_s)
+        self._rate_anchor = (0.0, 0.0)
+        self._cycle_start: tuple[int, float, np.ndarray] | None = None
         self.ended_flag = 0.0
         self._start_s = 0.0
         self._start_rad: np.ndarray | None = None
@@ -113,12 +132,26 @@ class NeuralPlayer(Agent):
         self.done = False
         self.ended_flag = 0.0
         self.cycle_phase, self.swing_weight = None, 0.0
+        # The phase clock: (walking time [s], cycle time played by then [s]) when the rate
+        # last changed; the torso's place and the cycle count at the last cycle's start.
+        self._rate_anchor = (0.0, 0.0)
+        self._cycle_start: tuple[int, float, np.ndarray] | None = None
+
+    def played_s(self, walk_s: float) -> float:
+        """Cycle time played [s] after ``walk_s`` [s] of walking (past the stance blend)."""
+        at_s, played_s = self._rate_anchor
+        return played_s + (walk_s - at_s) * self.speed_rate
+
+    def retime(self, speed_rate: float, walk_s: float) -> None:
+        """Play on at ``speed_rate`` from ``walk_s`` [s] of walking, the phase continuous."""
+        self._rate_anchor = (walk_s, self.played_s(walk_s))
+        self.speed_rate = float(speed_rate)
 
     def reference_at(self, t_s: float) -> np.ndarray:
         """(N + 1,) network output at ``t_s`` [s] of playing (phase-scaled for cyclic models; no
         start-up blending)."""
         if self.model.cyclic:
-            t_s = (t_s * self.speed_rate) % self.model.period_s
+            t_s = self.played_s(t_s) % self.model.period_s
         return self.model.predict(t_s)
 
     def mean_pose_rad(self) -> np.ndarray:
@@ -151,11 +184,29 @@ class NeuralPlayer(Agent):
         out[:n] = q
         return out
 
+    def _hold_speed(self, obs: Observation, walk_s: float, played_s: float) -> None:
+        """Once per gait cycle after the start-up: the torso's speed over the last cycle
+        against the commanded one; the phase rate moves toward it."""
+        cycle = int(played_s // self.model.period_s)
+        if self._cycle_start is not None and cycle == self._cycle_start[0]:
+            return
+        xy = np.asarray(obs.torso_pos_m[:2], float)
+        if self._cycle_start is not None and self.swing_weight >= 1.0:
+            _, since_s, xy0 = self._cycle_start
+            speed = float(np.hypot(*(xy - xy0))) / max(walk_s - since_s, 1e-9)
+            rate = self.speed_rate * (1 + RATE_GAIN * (self.speed_m_s - speed) / self.speed_m_s)
+            self.retime(float(np.clip(rate, *RATE_RANGE)), walk_s)
+        self._cycle_start = (cycle, walk_s, xy)
+
     def act(self, obs: Observation) -> JointCommand:
         t = obs.time_s - self._start_s
         if self.model.cyclic:
             _, self.swing_weight = self.start_weights(t)
-            played_s = max(0.0, t - self.stance_s) * self.speed_rate
+            walk_s = max(0.0, t - self.stance_s)
+            played_s = self.played_s(walk_s)
+            if self.speed_m_s is not None and walk_s > 0:
+                self._hold_speed(obs, walk_s, played_s)
+                played_s = self.played_s(walk_s)
             self.cycle_phase = (played_s % self.model.period_s) / self.model.period_s
         out = self.cyclic_reference(t) if self.model.cyclic else self.reference_at(t)
         n = self.model.num_joints

@@ -48,12 +48,30 @@ def register(app: typer.Typer) -> None:
                 "-o", "--out", help="Record references and perceived angles to this .mcap."
             ),
         ] = None,
+        vx: Annotated[
+            float | None,
+            typer.Option(
+                "--vx",
+                help="Forward speed command \\[m/s] of a walk that takes one (a learned walk, "
+                "the other team's walks); default: its own.",
+                show_default=False,
+            ),
+        ] = None,
     ) -> None:
         """Play an agent on a league server (RCSSServerMJ) as an ordinary team process."""
+        from mimic import options
         from mimic.league.play import play as play_agent
 
         if not (settle >= 0 and settle < float("inf")):
             fail(f"--settle must be a finite number of seconds >= 0, got {settle}")
+        if vx is not None:
+            from mimic.agents.registry import agent_spec
+            from mimic.robot.registry import get_robot
+
+            options.finite(vx, "--vx", above=0)
+            built = agent_spec(agent, robot=robot, speed_m_s=vx).build()
+            built.check_robot(get_robot(robot))
+            agent = built
 
         with Progress(
             TextColumn(f"{team} #{player} playing"),

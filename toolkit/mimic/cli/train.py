@@ -96,8 +96,9 @@ def register(app: typer.Typer) -> None:
         period: Annotated[
             str | None,
             typer.Option(
-                help="Learn one cyclic motion of this period \\[s], or 'auto' to find it in the "
-                "angles (default: as the recording says)."
+                help="Learn one cyclic motion of this period \\[s], 'auto' to find it in the "
+                "angles, or 'steps' to time each step on its own from the feet's touchdowns "
+                "(a walk that never repeats exactly; default: as the recording says)."
             ),
         ] = None,
         symmetric: Annotated[
@@ -189,6 +190,18 @@ def register(app: typer.Typer) -> None:
                 for p in inputs
             ]
         for d in datasets:
+            steps = d.metadata.get("steps")
+            if steps:
+                speed = d.metadata.get("walk_speed_m_s")
+                console.print(
+                    f"{d.name}: {steps['count']} steps from the feet, {steps['mean_s']:.3f} s "
+                    f"mean, sd {steps['std_s']:.3f} s ({steps['min_s']:.2f}-"
+                    f"{steps['max_s']:.2f} s); period {d.period_s:.3f} s"
+                    + ("" if speed is None else f"; walked {speed:.3f} m/s"),
+                    highlight=False,
+                )
+            elif d.period_s is not None and d.metadata.get("period_detected"):
+                console.print(f"{d.name}: period {d.period_s:.3f} s", highlight=False)
             if d.metadata.get("non_repeating"):
                 # A symmetric cycle holds every kept sample twice (itself and its mirror).
                 kept = d.n_samples // (2 if d.metadata.get("symmetric") else 1)

@@ -13,6 +13,7 @@ from rich import box
 from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 from rich.table import Column, Table
 
+from mimic import options
 from mimic.cli.common import (
     FORCE,
     ROBOT,
@@ -55,11 +56,16 @@ _SEED = typer.Option(help="Seed (0 .. 2**32-1); the same seed gives the same tab
 PLAIN_PROGRESS_EVERY_S = 5.0
 
 
-def _specs(variants, compare, motion, model, balance, speed_rate, default, robot="nao"):
+def _specs(
+    variants, compare, motion, model, balance, speed_rate, default, robot="nao", vx_m_s=None
+):
     from mimic.agents.registry import agent_spec
 
     names = list(variants or []) + [n for n in (motion, model) if n]
-    specs = [agent_spec(n, speed_rate=speed_rate, robot=robot) for n in names or [default]]
+    specs = [
+        agent_spec(n, speed_rate=speed_rate, robot=robot, speed_m_s=vx_m_s)
+        for n in names or [default]
+    ]
     if compare and len(names) < 2:
         raise MimicError(
             "--compare needs at least two variants, e.g. "
@@ -349,6 +355,15 @@ def walk(
     speed_rate: Annotated[
         float, typer.Option(help="Phase-rate multiplier for learned cyclic motions, > 0.")
     ] = 1.0,
+    vx: Annotated[
+        float | None,
+        typer.Option(
+            "--vx",
+            help="Forward speed command \\[m/s] for every variant that takes one (learned walks, "
+            "the other team's walks); default: each its own.",
+            show_default=False,
+        ),
+    ] = None,
     out: Annotated[
         Path | None, typer.Option("--out", "-o", help="Parquet file of every run.")
     ] = None,
@@ -381,6 +396,7 @@ def walk(
         speed_rate,
         "walk" if robot == "nao" else "other-team-walk",
         robot,
+        None if vx is None else options.finite(vx, "--vx", above=0),
     )
     if minutes is None and runs is None:
         runs = 10
