@@ -87,8 +87,15 @@ def reports_errors(func: F) -> F:
 
     @functools.wraps(func)
     def wrapper(*args, **kwargs):
+        from mimic.sigint import Terminated, sigterm_raises
+
         try:
-            return func(*args, **kwargs)
+            with sigterm_raises():
+                return func(*args, **kwargs)
+        except Terminated:  # SIGTERM: cleaned up as after Ctrl-C (workers, servers, files)
+            err_console.print("terminated", highlight=False)
+            sys.stderr.flush()
+            raise typer.Exit(143) from None
         except MimicError as err:
             fail(str(err), err.exit_code)
         except OSError as err:

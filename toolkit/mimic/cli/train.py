@@ -203,7 +203,7 @@ def register(app: typer.Typer) -> None:
                 raise DatasetError(f"{warning} (--strict refuses such input)")
             warn(f"{warning}, or pass --strict to refuse such input")
         paths = [out / f"{p.stem}{SUFFIX}" for p in inputs] if several else [out]
-        check_outputs([*paths, save], force=force)
+        check_outputs([*paths, save], force=force, inputs=inputs)
         curves = None
         if rerun or save is not None:
             from mimic.viz.training import TrainingCurves
@@ -270,7 +270,7 @@ def register(app: typer.Typer) -> None:
         from mimic.learn.model_file import load_model
 
         loaded = load_model(model)
-        check_output(onnx, force=force)
+        check_output(onnx, force=force, inputs=[model])
         path = export_onnx(loaded, onnx, overwrite=force)
         console.print(f"wrote {path} ({path.stat().st_size} bytes)", highlight=False)
 

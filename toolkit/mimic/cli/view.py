@@ -22,7 +22,7 @@ def view(
     from mimic.viz.recording import view_recording
 
     if save is not None:
-        check_output(save, force=force)
+        check_output(save, force=force, inputs=[recording, model])
     logged = view_recording(recording, model=model, save=save, overwrite=force)
     if save:
         console.print(
