@@ -113,8 +113,7 @@ def register(app: typer.Typer) -> None:
         how = "the agent finished" if result.end == "done" else "time is up"
         ball = "" if result.ball_moved_m is None else f"; the ball went {result.ball_moved_m:.2f} m"
         console.print(
-            f"{team} #{player}: {how} after {result.cycles} cycles"
-            f"{_moved(result)}{ball}{saved}",
+            f"{team} #{player}: {how} after {result.cycles} cycles{_moved(result)}{ball}{saved}",
             highlight=False,
         )
 
