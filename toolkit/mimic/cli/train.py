@@ -143,6 +143,10 @@ def register(app: typer.Typer) -> None:
         from mimic.learn.train import TrainConfig, train_models, training_dataset
 
         save = save_path(save, save_old)
+        if rerun:
+            from mimic.viz.display import require_viewer
+
+            require_viewer("--save FILE.rrd")
         try:
             config = TrainConfig(get_preset(preset), seed=seed, epochs=epochs)
         except ValueError as err:
