@@ -207,6 +207,7 @@ def register(app: typer.Typer) -> None:
             TextColumn("{task.completed:.2f} s sim"),
             console=err_console,
             transient=True,
+            disable=not err_console.is_terminal,  # no bar, and no blank line, in a pipe
         ) as bar:
             task = bar.add_task("record", total=None)
 

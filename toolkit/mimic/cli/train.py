@@ -223,6 +223,7 @@ def register(app: typer.Typer) -> None:
                 TimeElapsedColumn(),
                 console=err_console,
                 transient=True,
+                disable=not err_console.is_terminal,  # no bar, no blank line in a pipe
             ) as bar:
                 task = bar.add_task(
                     ", ".join(d.name for d in datasets),
