@@ -50,6 +50,20 @@ def _metrics_table(models) -> Table:
     return table
 
 
+def _named(dataset, path: Path):
+    """A league player's recording knows who moved, not what the motion was (its motion is
+    ``TEAM_N``): its model is named after the model file instead (``seen_walk.mimic``:
+    ``seen_walk``); the player stays in the metadata (``team``, ``recorded_as``)."""
+    from dataclasses import replace
+
+    if dataset.metadata.get("agent") != "league player":
+        return dataset
+    return replace(
+        dataset,
+        metadata={**dataset.metadata, "motion": path.stem, "recorded_as": dataset.name},
+    )
+
+
 def register(app: typer.Typer) -> None:
     app.add_typer(bench_app, name="bench")
 
@@ -208,6 +222,7 @@ def register(app: typer.Typer) -> None:
             warn(f"{warning}, or pass --strict to refuse such input")
         paths = [out / f"{p.stem}{SUFFIX}" for p in inputs] if several else [out]
         check_outputs([*paths, save], force=force, inputs=inputs)
+        datasets = [_named(d, path) for d, path in zip(datasets, paths)]
         curves = None
         if rerun or save is not None:
             from mimic.viz.training import TrainingCurves
