@@ -256,7 +256,7 @@ def _improve(
         console.print(f"wrote {save}")
     verdict = _verdict(run)
     if verdict:
-        console.print(verdict, highlight=False)
+        console.print(verdict, highlight=False, soft_wrap=True)
 
 
 def _verdict(run) -> str:

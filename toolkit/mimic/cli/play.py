@@ -115,6 +115,7 @@ def register(app: typer.Typer) -> None:
         console.print(
             f"{team} #{player}: {how} after {result.cycles} cycles{_moved(result)}{ball}{saved}",
             highlight=False,
+            soft_wrap=True,  # one line, however long the path
         )
 
 
