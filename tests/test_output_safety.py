@@ -17,7 +17,7 @@ from _learn_helpers import joint_frame, smooth_motion
 from typer.testing import CliRunner
 
 from mimic.cli.main import app
-from mimic.files import OutputError, PendingOutput, atomic_output, check_output, claim_output
+from mimic.files import OutputError, PendingOutput, atomic_output, check_output
 from mimic.learn.dataset import dataset_from_frame
 from mimic.learn.model_file import save_model
 from mimic.learn.presets import FAST
@@ -104,6 +104,8 @@ def test_outputs_get_the_mode_a_plain_open_gives(tmp_path, umask):
 def test_one_writer_per_output(tmp_path):
     """While one command holds an output, another is refused at once, naming its pid; the
     claim leaves nothing behind, and one held by a process that died does not block."""
+    from mimic.files import claim_output
+
     target = tmp_path / "sub" / "x.mcap"
     holder = subprocess.Popen(
         [
@@ -163,6 +165,7 @@ def test_sigterm_to_a_trial_leaves_no_worker_or_resource_tracker(tmp_path):
         text=True,
         cwd=tmp_path,
     )
+    children: set[int] = set()
     try:
         deadline = time.monotonic() + 120
         while len(_children(trial.pid)) < 2 and time.monotonic() < deadline:
@@ -182,5 +185,8 @@ def test_sigterm_to_a_trial_leaves_no_worker_or_resource_tracker(tmp_path):
         if trial.poll() is None:
             trial.kill()
             trial.wait()
-        for child in _children(trial.pid):
-            os.kill(child, signal.SIGKILL)
+        for child in children | _children(trial.pid):
+            try:
+                os.kill(child, signal.SIGKILL)  # what SIGTERM left (parent 1 by now)
+            except ProcessLookupError:
+                pass
