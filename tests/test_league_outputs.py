@@ -239,3 +239,52 @@ def test_a_server_that_stops_under_play_says_how_many_cycles_ran():
         server.stop()
     assert result.end == "server stopped"
     assert result.cycles >= 39  # not "after 0 cycles"
+
+
+def test_a_failed_recording_from_a_server_leaves_the_target_as_it_was(game, tmp_path, monkeypatch):
+    server = LeagueServer(ServerConfig(sync=False, realtime=True)).start()
+    player = subprocess.Popen(
+        mimic_command()
+        + ["play", "stand", "--server", server.agent_address, "--team", TEAM]
+        + ["--player", "3", "--seconds", "60"],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
+    target = tmp_path / "seen.mcap"
+    target.write_bytes(game["good"].read_bytes())
+    try:
+        _failing_writes(monkeypatch, after=10)
+        result = runner.invoke(
+            app,
+            ["record", "--server", server.monitor_address, "--team", TEAM, "--player", "3"]
+            + ["--wait", "60", "-o", str(target), "--force"],
+        )
+    finally:
+        player.kill()
+        player.wait()
+        server.stop()
+    assert result.exit_code == 1 and "Traceback" not in result.output, result.output
+    # (a line may say it waits for the player first)
+    assert result.output.splitlines()[-1] == "error: No space left on device", result.output
+    assert target.read_bytes() == game["good"].read_bytes()
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["seen.mcap"]
+
+
+def test_a_failed_play_leaves_its_output_as_it_was(tmp_path, monkeypatch):
+    from mimic.league.play import PlayRecorder
+
+    target = tmp_path / "played.mcap"
+    target.write_bytes(b"a good recording")
+    original = PlayRecorder.before_step
+
+    def before_step(self, *args):
+        if self.samples >= 10:
+            raise OSError(28, "No space left on device")
+        original(self, *args)
+
+    monkeypatch.setattr(PlayRecorder, "before_step", before_step)
+    result = runner.invoke(app, ["play", "stand", "--seconds", "2", "-o", str(target), "--force"])
+    _one_line_error(result, 1, "No space left on device")
+    assert target.read_bytes() == b"a good recording"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["played.mcap"]

@@ -224,6 +224,14 @@ def play(
         except LeagueConnectionError:
             end = "server stopped"  # keep what was recorded
             cycles = track.cycles  # the cycles that ran before it stopped
+        except KeyboardInterrupt:  # SIGTERM (Ctrl-C is the flag): kept, marked interrupted
+            end = "interrupted"
+            raise
+        except BaseException:  # a failed run leaves the target as it was
+            if writer is not None:
+                writer.abandon()
+                writer = None
+            raise
         finally:
             if writer is not None:
                 writer.finish(
