@@ -44,7 +44,8 @@ def files(tmp_path_factory):
     result = runner.invoke(app, ["record", "stand", "-o", str(rec), "--duration", "0.5"])
     assert result.exit_code == 0, result.output
     t, q = smooth_motion(30)
-    ds = dataset_from_frame(joint_frame(t, q), metadata={"motion": "wave", "team": "mimic"})
+    meta = {"motion": "wave", "team": "mimic", "ball_offset_m": [0.15, -0.05]}  # a "kick"
+    ds = dataset_from_frame(joint_frame(t, q), metadata=meta)
     model = save_model(train_model(ds, TrainConfig(FAST, seed=0, epochs=20)), d / "wave.mimic")
     return {"rec": rec, "model": model}
 
@@ -57,6 +58,8 @@ def files(tmp_path_factory):
         ["view", "{rec}", "--model", "{model}", "--save", "{model}", "--force"],
         ["export", "{model}", "-o", "{model}", "--force"],
         ["record", "--model", "{model}", "-o", "{model}", "--duration", "0.1", "--force"],
+        ["improve", "{model}", "--objective", "kick", "--budget", "4", "-o", "{model}", "--force"],
+        ["trial", "kick", "{model}", "--minutes", "1", "-o", "{model}", "--force"],
     ],
 )
 def test_force_never_replaces_an_input(files, args):

@@ -178,7 +178,8 @@ def _improve(
     if budget <= 0:
         raise MimicError(f"--budget must be > 0 evaluations, got {budget}")
     options.seed(seed)
-    check_outputs([out, save], force=force)
+    base = target.removesuffix("+balance")
+    check_outputs([out, save], force=force, inputs=[target, base, checkpoint])
     options.finite(sigma, "--sigma", above=0)
     settings = {}
     if fall_penalty is not None:
