@@ -43,6 +43,7 @@ __all__ = [
     "atomic_output",
     "claim_output",
     "same_file",
+    "spec_files",
     "plain_file_mode",
     "PARTIAL_MARK",
 ]
@@ -82,6 +83,20 @@ def same_file(a: str | Path, b: str | Path) -> bool:
         return os.path.samefile(a, b)
     except OSError:  # one of them does not exist (yet)
         return os.path.realpath(a) == os.path.realpath(b)
+
+
+def spec_files(*specs: str | Path | None) -> list[Path]:
+    """The files agent specs name (``kick.mimic+balance``: ``kick.mimic``; ``walk.json``,
+    ``kick.txt``), for ``check_output``'s ``inputs``; names of shipped motions and behaviours
+    (no suffix) name no file."""
+    out = []
+    for spec in specs:
+        if spec is None:
+            continue
+        path = Path(str(spec).removesuffix("+balance"))
+        if path.suffix:
+            out.append(path)
+    return out
 
 
 def check_output(

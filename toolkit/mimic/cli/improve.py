@@ -170,7 +170,7 @@ def _improve(
     a result that validates worse than the starting point is not kept (--keep-worse)."""
     from mimic import options
     from mimic.cli.trial import TrialProgress, _print, _world_text
-    from mimic.files import check_outputs
+    from mimic.files import check_outputs, spec_files
     from mimic.improve import improve
     from mimic.improve.objectives import make_objective
     from mimic.trials.executors import RAY_LOCAL
@@ -178,8 +178,7 @@ def _improve(
     if budget <= 0:
         raise MimicError(f"--budget must be > 0 evaluations, got {budget}")
     options.seed(seed)
-    base = target.removesuffix("+balance")
-    check_outputs([out, save], force=force, inputs=[target, base, checkpoint])
+    check_outputs([out, save], force=force, inputs=[*spec_files(target), checkpoint])
     options.finite(sigma, "--sigma", above=0)
     settings = {}
     if fall_penalty is not None:

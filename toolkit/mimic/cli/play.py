@@ -61,15 +61,14 @@ def register(app: typer.Typer) -> None:
         from contextlib import nullcontext
 
         from mimic import options
-        from mimic.agents.registry import BALANCE_SUFFIX
-        from mimic.files import check_output, claim_output
+        from mimic.files import check_output, claim_output, spec_files
         from mimic.league.play import play as play_agent
 
         if not (settle >= 0 and settle < float("inf")):
             fail(f"--settle must be a finite number of seconds >= 0, got {settle}")
         options.finite(seconds, "--duration", above=0)
         if out is not None:  # before a server starts; held until the file is written
-            check_output(out, force=force, inputs=[agent, agent.removesuffix(BALANCE_SUFFIX)])
+            check_output(out, force=force, inputs=spec_files(agent))
 
         with (
             claim_output(out) if out is not None else nullcontext(),

@@ -161,7 +161,7 @@ def register(app: typer.Typer) -> None:
         With --server: record a league player from the server's monitor stream instead."""
         from mimic import options
         from mimic.errors import MimicError
-        from mimic.files import check_output
+        from mimic.files import check_output, spec_files
         from mimic.recording.reader import describe_recording
         from mimic.recording.recorder import record as record_agent
 
@@ -200,7 +200,7 @@ def register(app: typer.Typer) -> None:
         from mimic.agents.registry import make_agent
 
         agent = make_agent(str(model) if model is not None else name, robot=robot or "nao")
-        check_output(out, force=force, inputs=[model, name])
+        check_output(out, force=force, inputs=spec_files(model, name))
         with Progress(
             TextColumn("recording"),
             BarColumn(),

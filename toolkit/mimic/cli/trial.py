@@ -308,14 +308,14 @@ def _check(
 ) -> None:
     """Before the first episode: options, every variant, and the outputs (they can be
     written, and do not exist unless --force)."""
-    from mimic.files import check_outputs
+    from mimic.files import check_outputs, spec_files
     from mimic.trials.api import check_trial, trial_files
 
     check_trial(kind, specs, **trial_options)
     check_outputs(
         [*trial_files(out), save],
         force=force,
-        inputs=[s.ref for s in specs if s.kind in ("model", "params")],
+        inputs=spec_files(*(s.ref for s in specs)),
     )
     if rerun:
         from mimic.viz.display import require_viewer
