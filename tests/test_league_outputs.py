@@ -288,3 +288,10 @@ def test_a_failed_play_leaves_its_output_as_it_was(tmp_path, monkeypatch):
     _one_line_error(result, 1, "No space left on device")
     assert target.read_bytes() == b"a good recording"
     assert sorted(p.name for p in tmp_path.iterdir()) == ["played.mcap"]
+
+
+def test_play_to_a_closed_port_is_one_line_with_no_blank_line_before_it(tmp_path):
+    port = free_port()
+    result = runner.invoke(app, ["play", "stand", "--server", f"127.0.0.1:{port}"])
+    assert result.output.splitlines()[0].startswith("error: "), repr(result.output)
+    _one_line_error(result, 2, f"nothing listens on 127.0.0.1:{port}", "let mimic host one")

@@ -40,6 +40,7 @@ def _search_bar(budget: int):
         TextColumn("{task.fields[status]}"),
         TimeElapsedColumn(),
         console=console,
+        disable=not console.is_terminal,  # no bar, and no blank line, in a pipe
     )
     task = progress.add_task("search", total=budget, status="")
 
