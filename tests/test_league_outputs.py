@@ -231,7 +231,7 @@ def test_a_server_that_stops_under_play_says_how_many_cycles_ran():
     def progress(t_s, total_s):
         seen.append(t_s)
         if len(seen) == 40:
-            server.stop()
+            server.request_stop()  # under the player's feet
 
     try:
         result = play("stand", agent_address=server.agent_address, seconds=30, progress=progress)
