@@ -183,6 +183,14 @@ def record_player(
                     break
             else:
                 reason = "interrupted (Ctrl-C)"
+        except KeyboardInterrupt:  # Ctrl-C outside the flag's reach, or SIGTERM: kept
+            reason = "interrupted"
+            raise
+        except BaseException:  # a failed recording leaves the target as it was
+            if out is not None:
+                out.abandon()
+                out = None
+            raise
         finally:
             if out is not None:
                 out.finish(interrupted=not _normal_end(reason), reason=reason)

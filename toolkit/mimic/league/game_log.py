@@ -151,8 +151,9 @@ def _import(
                     )
                 writers[key].write(sample, state.ball_pos_m())
     except BaseException:
+        # A failed import leaves every target as it was: the log can be imported again.
         for writer in writers.values():
-            writer.finish(interrupted=True, reason="import failed")
+            writer.abandon()
         raise
     results = []
     for (team, number), writer in writers.items():
