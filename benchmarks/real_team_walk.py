@@ -55,7 +55,7 @@ def _free_port() -> int:
 
 def _run(*args: str, check: bool = True) -> subprocess.CompletedProcess:
     print("$ " + " ".join(args), flush=True)
-    env = {**os.environ, "COLUMNS": "100"}
+    env = {**os.environ, "COLUMNS": "200"}
     done = subprocess.run(args, capture_output=True, text=True, env=env)
     if check and done.returncode != 0:
         sys.exit(f"failed: {done.stderr.strip() or done.stdout.strip()}")
