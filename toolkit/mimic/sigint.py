@@ -10,24 +10,30 @@ __all__ = ["SigintFlag"]
 
 
 class SigintFlag:
-    """Turns SIGINT into ``raised``, checked once per cycle (main thread only; a context
-    manager that restores the previous handler)."""
+    """Turns SIGINT (and any other ``signals`` given, e.g. SIGTERM) into ``raised``, checked
+    once per cycle (main thread only; a context manager that restores the previous handlers).
+    ``signum`` is the signal that came."""
 
-    def __init__(self) -> None:
+    def __init__(self, signals: tuple[int, ...] = (signal.SIGINT,)) -> None:
         self.raised = False
-        self._old = None
+        self.signum: int | None = None
+        self._signals = signals
+        self._old: dict[int, object] = {}
 
     def __enter__(self) -> SigintFlag:
         if threading.current_thread() is threading.main_thread():
-            self._old = signal.signal(signal.SIGINT, self._handle)
+            for s in self._signals:
+                self._old[s] = signal.signal(s, self._handle)
         return self
 
     def _handle(self, signum, frame) -> None:
         self.raised = True
+        self.signum = signum
 
     def __call__(self) -> bool:
         return self.raised
 
     def __exit__(self, *exc) -> None:
-        if self._old is not None:
-            signal.signal(signal.SIGINT, self._old)
+        for s, old in self._old.items():
+            signal.signal(s, old)
+        self._old.clear()
