@@ -227,17 +227,6 @@ def test_import_all_takes_any_name(real, tmp_path):
 
 
 # --- 4. every wait has a bound and answers Ctrl-C ------------------------------------------
-def test_random_bytes_end_a_recording_with_one_line(tmp_path):
-    with FakeMonitor(random_bytes()) as fake:
-        result = runner.invoke(
-            app,
-            ["record", "--server", fake.address, "--team", TEAM, "--player", "1"]
-            + ["-o", str(tmp_path / "x.mcap")],
-        )
-    _one_line_error(result, 2, fake.address)
-    assert not (tmp_path / "x.mcap").exists()
-
-
 def test_a_stream_of_small_junk_messages_ends_the_wait_for_a_scene(tmp_path):
     junk = [b"(junk %d)" % k for k in range(20000)]
     with FakeMonitor(replay(junk, period_s=0.0005)) as fake:
@@ -253,6 +242,25 @@ def _run(args: list[str]) -> subprocess.Popen:
         text=True,
         env={**os.environ, "COLUMNS": "200"},
     )
+
+
+def test_random_bytes_end_a_recording_with_one_line(tmp_path):
+    """Random bytes: a length no frame has, said in one line (not a wait for 4 GB)."""
+    with FakeMonitor(random_bytes()) as fake:
+        proc = _run(
+            ["record", "--server", fake.address, "--team", TEAM, "--player", "1"]
+            + ["-o", str(tmp_path / "x.mcap")]
+        )
+        try:
+            _, stderr = proc.communicate(timeout=60)  # a bound against a hang
+        except subprocess.TimeoutExpired:
+            proc.kill()
+            proc.communicate()
+            pytest.fail("mimic record --server kept reading random bytes for 60 s")
+    assert proc.returncode == 2, stderr
+    lines = [ln for ln in stderr.splitlines() if ln.strip()]
+    assert len(lines) == 1 and fake.address in lines[0] and "not an RCSSServerMJ" in lines[0]
+    assert not (tmp_path / "x.mcap").exists()
 
 
 def _interrupt_after(proc: subprocess.Popen, seconds: float) -> tuple[str, float]:
@@ -289,3 +297,132 @@ def test_ctrl_c_while_waiting_for_the_player(real, tmp_path):
     assert proc.returncode == 130, stderr
     assert "Traceback" not in stderr and "interrupted" in stderr
     assert not (tmp_path / "x.mcap").exists()
+
+
+# --- fuzz: thousands of mutated frames of the real log -------------------------------------
+_JUNK = [
+    b"two",
+    b"nan",
+    b"-inf",
+    b"1e999",
+    b"(x)",
+    b"()",
+    b"(",
+    b")",
+    b"\xff\xfe",
+    b"[/x]",
+    b"\x1b[2J",
+    b"../up",
+    b"/abs/path",
+    b"a/b",
+    b"-1",
+    b"99999999999999999999",
+    b"(SLT 1 2)",
+    b"(nd",
+    b"(agent ../../evil 7)",
+    b"(agent [/x] 8)",
+]
+
+
+def _mutate(frame: bytes, rng) -> bytes:
+    """One to three random edits: a byte flipped, a span cut or doubled, junk put in, a
+    token replaced, the team name replaced, the frame cut short."""
+    b = bytearray(frame)
+    for _ in range(int(rng.integers(1, 4))):
+        n = len(b)
+        op = int(rng.integers(0, 7))
+        at = int(rng.integers(0, max(n, 1)))
+        if op == 0 and n:
+            b[at] = int(rng.integers(0, 256))
+        elif op == 1 and n:
+            del b[at : at + int(rng.integers(1, 64))]
+        elif op == 2 and n:
+            b[at:at] = b[at : at + int(rng.integers(1, 256))]
+        elif op == 3:
+            b[at:at] = _JUNK[int(rng.integers(0, len(_JUNK)))]
+        elif op == 5:
+            name = _JUNK[int(rng.integers(0, len(_JUNK)))]
+            b = bytearray(bytes(b).replace(f"(agent {TEAM} ".encode(), b"(agent " + name + b" "))
+        elif op == 4:
+            tokens = [m.span() for m in re.finditer(rb"[^\s()]+", bytes(b))]
+            if tokens:
+                s, e = tokens[int(rng.integers(0, len(tokens)))]
+                b[s:e] = _JUNK[int(rng.integers(0, len(_JUNK)))]
+        else:
+            del b[at:]
+    return bytes(b)
+
+
+def _fuzzed(real: list[bytes], seed: int, count: int) -> list[bytes]:
+    """``count`` frames of the game in order, about half of them mutated, its first full
+    frame again every 20 frames (a scene to break, and names to change)."""
+    import numpy as np
+
+    rng = np.random.default_rng(seed)
+    on = _on_field(real)
+    frames = [on[0]]
+    for k in range(1, count):
+        frame = on[0] if k % 20 == 0 else on[k % len(on)]
+        frames.append(_mutate(frame, rng) if rng.random() < 0.5 else frame)
+    return frames
+
+
+def test_fuzz_scene_state_never_raises(real):
+    """Every mutated frame is either applied or skipped and counted."""
+    import numpy as np
+
+    rng = np.random.default_rng(1)
+    on = _on_field(real)
+    state = SceneState()
+    state.apply(on[0])
+    for k in range(3000):
+        frame = _mutate(on[int(rng.integers(0, len(on)))], rng)
+        before = state.frames + state.skipped
+        state.apply(frame)
+        assert state.frames + state.skipped == before + 1
+        if k % 50 == 0:
+            state.apply(on[0])  # a whole scene again, so that diffs have something to break
+
+
+@pytest.mark.parametrize("seed", [11, 12])
+def test_fuzz_import(real, tmp_path, seed):
+    """`mimic import` of a log of mutated frames: a result or one line, nothing outside -o."""
+    log = _log(tmp_path / "game.log", _fuzzed(real, seed, 600))
+    out = tmp_path / "out"
+    every = runner.invoke(app, ["import", str(log), "--all", "-o", str(out / "all")])
+    one = runner.invoke(
+        app,
+        ["import", str(log), "--team", TEAM, "--player", str(PLAYER), "-o", str(out / "a.mcap")],
+    )
+    for result in (every, one):
+        _no_traceback(result)
+        assert result.exit_code in (0, 1, 2), result.output
+        if result.exit_code:
+            lines = [ln for ln in result.output.splitlines() if ln.strip()]
+            assert lines[-1].startswith("error:"), lines
+    assert {p.relative_to(tmp_path).parts[0] for p in tmp_path.rglob("*")} <= {"game.log", "out"}
+    assert all(p.parent in (out, out / "all") for p in out.rglob("*") if p.is_file())
+
+
+@pytest.mark.parametrize("seed", [21, 22])
+def test_fuzz_record_server(real, tmp_path, seed):
+    """`mimic record --server` on a fake monitor port streaming mutated frames: it ends (the
+    stream closes), with a result or one line, and writes nothing but its -o file."""
+    frames = _fuzzed(real, seed, 800)
+    out = tmp_path / "rec" / "live.mcap"
+    with FakeMonitor(replay(frames, then="close")) as fake:
+        proc = _run(
+            ["record", "--server", fake.address, "--team", TEAM, "--player", str(PLAYER)]
+            + ["--wait", "3", "-o", str(out)]
+        )
+        try:
+            stdout, stderr = proc.communicate(timeout=120)  # a bound against a hang
+        except subprocess.TimeoutExpired:
+            proc.kill()
+            proc.communicate()
+            pytest.fail("mimic record --server did not end within 120 s")
+    assert "Traceback" not in stderr, stderr
+    assert proc.returncode in (0, 1, 2), stderr
+    if proc.returncode:
+        assert stderr.strip().splitlines()[-1].startswith("error:"), stderr
+    assert all(p == out for p in tmp_path.rglob("*") if p.is_file())

@@ -48,8 +48,8 @@ def printable(text: str) -> str:
 
 def safe_stem(name: str) -> str:
     """A file-name stem made from ``name``: letters, digits, ``.``, ``_`` and ``-`` only
-    (anything else, ``/`` included, becomes ``_``), no leading dot, at most
+    (anything else, ``/`` included, becomes ``_``), no leading dot or dash, at most
     ``MAX_STEM_CHARS``; ``_`` when nothing is left. It never names a path outside its
     folder."""
-    stem = _UNSAFE_STEM.sub("_", name).lstrip(".")[:MAX_STEM_CHARS]
+    stem = _UNSAFE_STEM.sub("_", name).lstrip(".-")[:MAX_STEM_CHARS]
     return stem or "_"
