@@ -426,3 +426,32 @@ def test_fuzz_record_server(real, tmp_path, seed):
     if proc.returncode:
         assert stderr.strip().splitlines()[-1].startswith("error:"), stderr
     assert all(p == out for p in tmp_path.rglob("*") if p.is_file())
+
+
+# --- 5. mimic never stops a server --------------------------------------------------------
+def test_fifty_lists_and_recorders_leave_a_sync_server_running(tmp_path):
+    """A sync server running free (no player answering): 50 `--list` calls and 5 recorders
+    whose player is not on the field come and go; the server still runs and serves."""
+    from mimic.league.monitor import MonitorClient
+    from mimic.league.server import LeagueServer, ServerConfig
+
+    with LeagueServer(ServerConfig(sync=True, realtime=False)) as server:
+        for k in range(55):
+            if k % 11 == 10:
+                args = ["--team", "nobody", "--player", "9", "--wait", "0.3"]
+                args += ["-o", str(tmp_path / f"x{k}.mcap")]
+                code = 2
+            else:
+                args, code = ["--list"], 0
+            result = runner.invoke(app, ["record", "--server", server.monitor_address, *args])
+            assert result.exit_code == code, (k, result.output, server.output()[-3000:])
+        with MonitorClient("127.0.0.1", server.monitor_port) as monitor:
+            deadline = time.monotonic() + 30
+            while not monitor.state.valid and time.monotonic() < deadline:
+                monitor.read(timeout_s=1.0)
+            t0 = monitor.state.time_s
+            while monitor.state.time_s <= t0 + 0.5 and time.monotonic() < deadline:
+                monitor.read(timeout_s=1.0)
+            assert monitor.state.time_s > t0 + 0.5, "the server's clock stopped"
+        assert server.running, server.output()[-3000:]
+        assert "Traceback" not in server.output(), server.output()[-3000:]
