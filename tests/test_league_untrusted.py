@@ -455,3 +455,24 @@ def test_fifty_lists_and_recorders_leave_a_sync_server_running(tmp_path):
             assert monitor.state.time_s > t0 + 0.5, "the server's clock stopped"
         assert server.running, server.output()[-3000:]
         assert "Traceback" not in server.output(), server.output()[-3000:]
+
+
+def test_sigterm_ends_a_recording_with_its_file_finished(real, tmp_path):
+    """`kill` (SIGTERM) of a recorder: its file finished and marked interrupted, and it
+    leaves the server like Ctrl-C does (a half-close, not a reset)."""
+    from mimic.recording.reader import read_recording
+
+    out = tmp_path / "live.mcap"
+    with FakeMonitor(replay(_on_field(real), period_s=0.02)) as fake:
+        proc = _run(
+            ["record", "--server", fake.address, "--team", TEAM, "--player", str(PLAYER)]
+            + ["-o", str(out)]
+        )
+        time.sleep(4.0)
+        assert proc.poll() is None, proc.communicate()
+        proc.send_signal(signal.SIGTERM)
+        _, stderr = proc.communicate(timeout=30)  # a bound against a hang
+    assert proc.returncode == 130, stderr
+    assert "interrupted" in stderr and "Traceback" not in stderr
+    rec = read_recording(out)
+    assert rec.interrupted and rec.recovery.complete

@@ -145,7 +145,7 @@ def list_players(monitor_address: str, timeout_s: float = 10.0) -> tuple[PlayerN
         KeyboardInterrupt: Ctrl-C (answered within a second).
     """
     with (
-        SigintFlag() as sigint,
+        SigintFlag((signal.SIGINT, signal.SIGTERM)) as sigint,
         MonitorClient(*parse_address(monitor_address, "--server")) as monitor,
     ):
         return _first_scene(monitor, timeout_s, sigint).players
@@ -173,10 +173,14 @@ def record_player(
         wait_s: how long to wait for the player to appear [s, wall clock].
         on_wait: called with a message while waiting for the player.
 
+    Ctrl-C or SIGTERM end the recording with its file finished (marked interrupted) and the
+    connection left cleanly; before the first sample they raise ``KeyboardInterrupt``.
+
     Raises:
-        LeagueConnectionError: nothing listens at the address.
+        LeagueConnectionError: nothing listens at the address, or no whole scene came.
         PlayerNotFoundError: the player did not appear within ``wait_s`` (the message names
             the players that are on the field). No file is written then.
+        KeyboardInterrupt: Ctrl-C or SIGTERM before anything was recorded.
     """
     if seconds is not None and not seconds > 0:
         raise LeagueError(f"--seconds must be > 0, got {seconds}")

@@ -152,12 +152,17 @@ class Connection:
         return f"{self.address[0]}:{self.address[1]}"
 
     def close(self, linger_s: float = 1.0) -> None:
-        """Say goodbye and wait (up to ``linger_s``) for the server to close its end.
-
-        rcsssmj 0.2.1 stops its whole simulation if a send meets a socket its reader thread
-        has just closed, or a reset: so no reset (unread data closed abruptly resets a TCP
-        connection) and no hurry. Half-close, keep reading until the server's end is closed,
+        """Leave: half-close, read until the server closes its end (at most ``linger_s``),
         then close.
+
+        rcsssmj 0.2.1 ends its whole simulation when a send to a peer fails with anything but
+        ``BrokenPipeError``. Closing with unread data would reset the connection
+        (``ConnectionResetError`` in the server's next send), so the half-close goes first and
+        every byte is read until the server has closed its end. One failure no peer can rule
+        out remains on the server's side: its reader thread closes the socket while its
+        simulation thread is about to send (``Bad file descriptor``); whether that happens
+        depends on how the server's threads are scheduled, not on the peer. Servers mimic
+        hosts are patched against it (``mimic.league.hosted_server``).
         """
         try:
             self._sock.shutdown(socket.SHUT_WR)
