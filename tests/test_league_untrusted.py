@@ -263,11 +263,17 @@ def test_random_bytes_end_a_recording_with_one_line(tmp_path):
     assert not (tmp_path / "x.mcap").exists()
 
 
-def _interrupt_after(proc: subprocess.Popen, seconds: float) -> tuple[str, float]:
-    """SIGINT ``proc`` ``seconds`` after it started; its stderr and how long it took to end."""
+def _interrupt_after(
+    proc: subprocess.Popen, fake: FakeMonitor, seconds: float, sig: int = signal.SIGINT
+) -> tuple[str, float]:
+    """Signal ``proc`` ``seconds`` after it connected to ``fake``; its stderr and how long it
+    took to end."""
+    deadline = time.monotonic() + 60  # mimic starting on a busy machine
+    while not fake.connections and proc.poll() is None and time.monotonic() < deadline:
+        time.sleep(0.05)
     time.sleep(seconds)
     assert proc.poll() is None, proc.communicate()
-    proc.send_signal(signal.SIGINT)
+    proc.send_signal(sig)
     sent = time.monotonic()
     _, stderr = proc.communicate(timeout=30)  # a bound against a hang, not a timing claim
     return stderr, time.monotonic() - sent
@@ -281,7 +287,7 @@ def test_ctrl_c_before_the_first_scene(serve, tmp_path):
             ["record", "--server", fake.address, "--team", TEAM, "--player", "1"]
             + ["-o", str(tmp_path / "x.mcap")]
         )
-        stderr, _ = _interrupt_after(proc, 3.0)
+        stderr, _ = _interrupt_after(proc, fake, 1.0)
     assert proc.returncode == 130, stderr
     assert "Traceback" not in stderr
     assert not (tmp_path / "x.mcap").exists()
@@ -293,7 +299,7 @@ def test_ctrl_c_while_waiting_for_the_player(real, tmp_path):
             ["record", "--server", fake.address, "--team", "nobody", "--player", "9"]
             + ["--wait", "120", "-o", str(tmp_path / "x.mcap")]
         )
-        stderr, _ = _interrupt_after(proc, 4.0)
+        stderr, _ = _interrupt_after(proc, fake, 2.0)
     assert proc.returncode == 130, stderr
     assert "Traceback" not in stderr and "interrupted" in stderr
     assert not (tmp_path / "x.mcap").exists()
@@ -468,10 +474,7 @@ def test_sigterm_ends_a_recording_with_its_file_finished(real, tmp_path):
             ["record", "--server", fake.address, "--team", TEAM, "--player", str(PLAYER)]
             + ["-o", str(out)]
         )
-        time.sleep(4.0)
-        assert proc.poll() is None, proc.communicate()
-        proc.send_signal(signal.SIGTERM)
-        _, stderr = proc.communicate(timeout=30)  # a bound against a hang
+        stderr, _ = _interrupt_after(proc, fake, 2.0, signal.SIGTERM)
     assert proc.returncode == 130, stderr
     assert "interrupted" in stderr and "Traceback" not in stderr
     rec = read_recording(out)
