@@ -227,11 +227,16 @@ def test_import_all_takes_any_name(real, tmp_path):
 
 
 # --- 4. every wait has a bound and answers Ctrl-C ------------------------------------------
-def test_a_stream_of_small_junk_messages_ends_the_wait_for_a_scene(tmp_path):
+def test_a_stream_of_junk_messages_ends_the_wait_for_a_scene():
+    """Small messages that are not frames: the wait for a scene has a deadline, and the error
+    says how many malformed frames came."""
+    from mimic.league.blackbox import list_players
+    from mimic.league.errors import LeagueConnectionError
+
     junk = [b"(junk %d)" % k for k in range(20000)]
     with FakeMonitor(replay(junk, period_s=0.0005)) as fake:
-        result = runner.invoke(app, ["record", "--server", fake.address, "--list"])
-    _one_line_error(result, 2, "no scene from", "malformed frames")
+        with pytest.raises(LeagueConnectionError, match=r"no scene from .*malformed frames"):
+            list_players(fake.address, timeout_s=1.5)
 
 
 def _run(args: list[str]) -> subprocess.Popen:
@@ -410,11 +415,11 @@ def test_fuzz_import(real, tmp_path, seed):
     assert all(p.parent in (out, out / "all") for p in out.rglob("*") if p.is_file())
 
 
-@pytest.mark.parametrize("seed", [21, 22])
+@pytest.mark.parametrize("seed", [21])
 def test_fuzz_record_server(real, tmp_path, seed):
     """`mimic record --server` on a fake monitor port streaming mutated frames: it ends (the
     stream closes), with a result or one line, and writes nothing but its -o file."""
-    frames = _fuzzed(real, seed, 800)
+    frames = _fuzzed(real, seed, 1500)
     out = tmp_path / "rec" / "live.mcap"
     with FakeMonitor(replay(frames, then="close")) as fake:
         proc = _run(
