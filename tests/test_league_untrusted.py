@@ -470,7 +470,7 @@ def test_fifty_lists_and_recorders_leave_a_sync_server_running(tmp_path):
 
 def test_sigterm_ends_a_recording_with_its_file_finished(real, tmp_path):
     """`kill` (SIGTERM) of a recorder: its file finished and marked interrupted, and it
-    leaves the server like Ctrl-C does (a half-close, not a reset)."""
+    leaves the server like Ctrl-C does (a half-close, not a reset); exit 143."""
     from mimic.recording.reader import read_recording
 
     out = tmp_path / "live.mcap"
@@ -480,7 +480,7 @@ def test_sigterm_ends_a_recording_with_its_file_finished(real, tmp_path):
             + ["-o", str(out)]
         )
         stderr, _ = _interrupt_after(proc, fake, 2.0, signal.SIGTERM)
-    assert proc.returncode == 130, stderr
-    assert "interrupted" in stderr and "Traceback" not in stderr
+    assert proc.returncode == 143, stderr
+    assert "terminated" in stderr and "Traceback" not in stderr
     rec = read_recording(out)
     assert rec.interrupted and rec.recovery.complete

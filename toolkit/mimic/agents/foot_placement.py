@@ -94,6 +94,11 @@ class FootKinematics:
         rel = self.data.xpos[self._feet, :2] - self.data.xpos[self._root, :2]
         return np.stack([c * rel[:, 0] + s * rel[:, 1], -s * rel[:, 0] + c * rel[:, 1]], axis=1)
 
+    def feet_height_m(self, angles_rad: np.ndarray, torso_quat_wxyz) -> np.ndarray:
+        """(2,): the left and the right foot's height relative to the torso, z up [m]."""
+        self._pose(angles_rad, np.asarray(torso_quat_wxyz, float))
+        return self.data.xpos[self._feet, 2] - self.data.xpos[self._root, 2]
+
     def shift_map(self, angles_rad: np.ndarray) -> dict[float, np.ndarray]:
         """Per side (+1 left, -1 right) a (N, 2) map: joint shifts [rad] per metre that move
         that foot along the torso's x and y, its height and sole tilt (roll, pitch) kept."""

@@ -48,8 +48,13 @@ ROBOT_BEHAVIOURS: dict[str, dict[str, str]] = {
     "t1": {
         "other-team-walk": "mimic.agents.other_team_t1:make_walk",
         "other-team-kick": "mimic.agents.other_team_t1:make_kick",
+        # A walk like a learned policy's: a velocity command toward a noisy target, a step
+        # time that adapts every step (no two steps alike).
+        "other-team-policy-walk": "mimic.agents.other_team_t1:make_policy_walk",
     },
 }
+#: Behaviours whose factory takes a forward speed command [m/s] (``--vx``).
+_COMMANDED = ("other-team-walk", "other-team-policy-walk")
 #: Appended to a model path (``kick.mimic+balance``): play that model inside the balance layer.
 BALANCE_SUFFIX = "+balance"
 
@@ -79,6 +84,8 @@ class AgentSpec:
         robot: the robot the agent drives.
         balance: wrap a learned motion in the closed-loop balance layer.
         speed_rate: phase-rate multiplier for cyclic learned motions.
+        speed_m_s: a commanded forward speed [m/s] for a learned walk (its phase rate follows
+            it), or for a behaviour that takes one (the other team's walks); None: its own.
     """
 
     kind: str
@@ -86,6 +93,7 @@ class AgentSpec:
     robot: str = DEFAULT_ROBOT
     balance: bool = False
     speed_rate: float = 1.0
+    speed_m_s: float | None = None
 
     @property
     def label(self) -> str:
@@ -96,6 +104,8 @@ class AgentSpec:
 
     def build(self) -> Agent:
         """A fresh agent (call it inside the process that runs it)."""
+        if self.speed_m_s is not None and self.kind in ("motion", "params"):
+            raise MimicError(f"{self.label} takes no speed command (--vx); a learned walk does")
         if self.kind == "motion":
             from mimic.agents.keyframe_player import KeyframePlayer
             from mimic.motion.files import load_motion
@@ -104,7 +114,11 @@ class AgentSpec:
         if self.kind == "model":
             from mimic.agents.neural_player import NeuralPlayer
 
-            agent = NeuralPlayer.from_file(self.ref)
+            agent = NeuralPlayer.from_file(self.ref, speed_m_s=self.speed_m_s)
+            if self.speed_m_s is not None and not agent.model.cyclic:
+                raise MimicError(
+                    f"{self.label}: --vx commands a walk; this model is a one-shot motion"
+                )
             if self.speed_rate != 1.0:
                 agent.speed_rate = self.speed_rate
             if self.balance:
@@ -116,8 +130,19 @@ class AgentSpec:
             from mimic.agents.params_file import build_engine, load_params
 
             return build_engine(*load_params(self.ref))
-        target = ROBOT_BEHAVIOURS.get(self.robot, {}).get(self.ref, BEHAVIOURS[self.ref])
-        return _load(target, f"agent {self.ref!r}")()
+        target = ROBOT_BEHAVIOURS.get(self.robot, {}).get(self.ref) or BEHAVIOURS.get(self.ref)
+        if self.speed_m_s is not None and self.ref not in _COMMANDED:
+            raise MimicError(
+                f"{self.ref} takes no speed command (--vx): {', '.join(_COMMANDED)} do"
+            )
+        if target is None:
+            robots = [r for r, names in ROBOT_BEHAVIOURS.items() if self.ref in names]
+            raise MimicError(
+                f"{self.ref} is a behaviour of the {', '.join(r.upper() for r in robots)} only; "
+                f"the robot here is the {self.robot.upper()} (pick it with --robot)"
+            )
+        factory = _load(target, f"agent {self.ref!r}")
+        return factory() if self.speed_m_s is None else factory(self.speed_m_s)
 
     def check(self, robot: str | None = None) -> None:
         """Everything that can be checked before a run: the model file reads, and the
@@ -142,11 +167,17 @@ def agent_names(robot: str = DEFAULT_ROBOT) -> list[str]:
     from mimic.motion.files import list_motions
 
     motions = list_motions(robot)
-    return motions + [n for n in BEHAVIOURS if n not in motions]
+    behaviours = [*BEHAVIOURS, *ROBOT_BEHAVIOURS.get(robot, {})]
+    return motions + [n for n in dict.fromkeys(behaviours) if n not in motions]
 
 
 def agent_spec(
-    text: str, *, robot: str = DEFAULT_ROBOT, balance: bool = False, speed_rate: float = 1.0
+    text: str,
+    *,
+    robot: str = DEFAULT_ROBOT,
+    balance: bool = False,
+    speed_rate: float = 1.0,
+    speed_m_s: float | None = None,
 ) -> AgentSpec:
     """Read an agent spec (see the module docstring).
 
@@ -169,20 +200,20 @@ def agent_spec(
             raise MimicError(f"model file {text!r} not found; train one with 'mimic train'")
         from mimic.learn.model_file import load_model
 
-        return AgentSpec("model", text, load_model(text).robot, balance, speed_rate)
+        return AgentSpec("model", text, load_model(text).robot, balance, speed_rate, speed_m_s)
     if text.endswith(".json"):
         from mimic.agents.params_file import load_params
 
         load_params(text)  # one clear line now for a missing or bad file
-        return AgentSpec("params", text, robot, balance, speed_rate)
+        return AgentSpec("params", text, robot, balance, speed_rate, speed_m_s)
     from mimic.motion.files import list_motions
 
     if text in list_motions(robot) or text.endswith(".txt"):
         if text.endswith(".txt") and not Path(text).is_file():
             raise MimicError(f"motion file {text!r} not found")
-        return AgentSpec("motion", text, robot, balance, speed_rate)
-    if text in BEHAVIOURS:
-        return AgentSpec("behaviour", text, robot, balance, speed_rate)
+        return AgentSpec("motion", text, robot, balance, speed_rate, speed_m_s)
+    if text in BEHAVIOURS or any(text in names for names in ROBOT_BEHAVIOURS.values()):
+        return AgentSpec("behaviour", text, robot, balance, speed_rate, speed_m_s)
     raise MimicError(
         f"unknown agent {text!r}; motions: {', '.join(list_motions(robot))}; "
         f"behaviours: {', '.join(BEHAVIOURS)}; or a .mimic model file "

@@ -74,6 +74,7 @@ def record_server(
         TextColumn("{task.completed:.2f} s"),
         console=err_console,
         transient=True,
+        disable=not err_console.is_terminal,  # no bar, and no blank line, in a pipe
     ) as bar:
         task = bar.add_task("record", total=None, who=who(team, player))
 

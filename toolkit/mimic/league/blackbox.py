@@ -10,7 +10,6 @@ of mimic loses at most ``FLUSH_PERIOD_S``.
 
 from __future__ import annotations
 
-import signal
 import time
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -145,7 +144,7 @@ def list_players(monitor_address: str, timeout_s: float = 10.0) -> tuple[PlayerN
         KeyboardInterrupt: Ctrl-C (answered within a second).
     """
     with (
-        SigintFlag((signal.SIGINT, signal.SIGTERM)) as sigint,
+        SigintFlag() as sigint,
         MonitorClient(*parse_address(monitor_address, "--server")) as monitor,
     ):
         return _first_scene(monitor, timeout_s, sigint).players
@@ -173,14 +172,15 @@ def record_player(
         wait_s: how long to wait for the player to appear [s, wall clock].
         on_wait: called with a message while waiting for the player.
 
-    Ctrl-C or SIGTERM end the recording with its file finished (marked interrupted) and the
-    connection left cleanly; before the first sample they raise ``KeyboardInterrupt``.
+    Ctrl-C (or SIGTERM, which raises ``mimic.sigint.Terminated`` under the CLI) ends the
+    recording with its file finished (marked interrupted) and the connection left cleanly;
+    before the first sample it raises ``KeyboardInterrupt``.
 
     Raises:
         LeagueConnectionError: nothing listens at the address, or no whole scene came.
         PlayerNotFoundError: the player did not appear within ``wait_s`` (the message names
             the players that are on the field). No file is written then.
-        KeyboardInterrupt: Ctrl-C or SIGTERM before anything was recorded.
+        KeyboardInterrupt: Ctrl-C before anything was recorded.
     """
     if seconds is not None and not seconds > 0:
         raise LeagueError(f"--seconds must be > 0, got {seconds}")
@@ -188,7 +188,7 @@ def record_player(
         raise LeagueError(f"--wait must be a finite number of seconds >= 0, got {wait_s}")
     name = who(team, player)
     with (
-        SigintFlag((signal.SIGINT, signal.SIGTERM)) as sigint,
+        SigintFlag() as sigint,
         MonitorClient(*parse_address(monitor_address, "--server")) as monitor,
     ):
         state = _first_scene(monitor, max(wait_s, 10.0), sigint)
@@ -239,8 +239,15 @@ def record_player(
                     reason = f"no valid frame from {monitor.where} for {STALL_S:g} s"
                     break
             else:
-                stop = "SIGTERM" if sigint.signum == signal.SIGTERM else "Ctrl-C"
-                reason = f"interrupted ({stop})"
+                reason = "interrupted (Ctrl-C)"
+        except KeyboardInterrupt:  # Ctrl-C outside the flag's reach, or SIGTERM: kept
+            reason = "interrupted"
+            raise
+        except BaseException:  # a failed recording leaves the target as it was
+            if out is not None:
+                out.abandon()
+                out = None
+            raise
         finally:
             if out is not None:
                 out.finish(interrupted=not _normal_end(reason), reason=reason)

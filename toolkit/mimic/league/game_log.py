@@ -139,7 +139,7 @@ def import_game_log_all(
     if not players:
         raise GameLogError(f"{log_path} holds no players")
     outputs = {key: out_dir / name for key, name in player_file_names(players).items()}
-    check_outputs(outputs.values(), force=force)
+    check_outputs(outputs.values(), force=force, inputs=[log_path])
     results = _import(log_path, outputs, robot, every=True)
     if not results:
         raise GameLogError(f"{log_path} holds no players mimic can decode")
@@ -191,8 +191,9 @@ def _import(
                     )
                 writers[key].write(sample, state.ball_pos_m())
     except BaseException:
+        # A failed import leaves every target as it was: the log can be imported again.
         for writer in writers.values():
-            writer.finish(interrupted=True, reason="import failed")
+            writer.abandon()
         raise
     results = []
     for (team, number), writer in writers.items():

@@ -191,9 +191,15 @@ def connect(host: str, port: int, what: str, timeout_s: float = 5.0) -> Connecti
     try:
         sock = socket.create_connection((host, port), timeout=timeout_s)
     except ConnectionRefusedError:
+        # Only a command that plays (``mimic play``) can host a server of its own; a recorder
+        # watches someone else's.
+        todo = (
+            "start a server (rcssservermj) first, or give its monitor port (--mport)"
+            if "monitor" in what
+            else "start a server (rcssservermj) or leave out --server to let mimic host one"
+        )
         raise LeagueConnectionError(
-            f"nothing listens on {host}:{port} (the {what}); start a server "
-            "(rcssservermj) or leave out --server to let mimic host one"
+            f"nothing listens on {host}:{port} (the {what}); {todo}"
         ) from None
     except OSError as err:
         raise LeagueConnectionError(

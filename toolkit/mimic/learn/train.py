@@ -36,6 +36,7 @@ __all__ = [
     "pd_compensated_targets",
     "TARGET_REACHED",
     "TARGET_COMPENSATED",
+    "PERIOD_STEPS",
 ]
 
 
@@ -269,7 +270,12 @@ def training_dataset(
     ``start_s``/``end_s`` cut the recording [s from its first sample] after the targets are
     made (``cut_dataset``); ``period`` makes the cut one cyclic motion: a period [s], or
     ``"auto"`` to find it in the angles (``detect_period_s``; a black-box recording of a walk
-    does not say its period). ``symmetric`` joins every sample of a cyclic motion by its mirror
+    does not say its period), or ``"steps"`` (``PERIOD_STEPS``) to time each step on its own
+    from where the feet touch down (``learn.steps``: a walk that never repeats a step exactly,
+    learned as the cycle of its mean step pair). Where the recording shows the feet, a period
+    that is not the cycle of two steps (a multiple of it, or one step) is refused, and the
+    steps' statistics (``metadata["steps"]``) and the walking speed over them
+    (``metadata["walk_speed_m_s"]``) are kept. ``symmetric`` joins every sample of a cyclic motion by its mirror
     image half a cycle later (``learn.dataset.symmetric_cycle``; a straight walk), and its foot
     track likewise.
 
@@ -339,9 +345,30 @@ def training_dataset(
             ds = replace(ds, metadata={**ds.metadata, "ball_offset_m": offset})
     if period is None:
         return symmetric_cycle(ds) if symmetric else ds
-    if period == "auto":
+    seen = cut_dataset(observed_ds, start_s, end_s)
+    first_s = (seen.metadata.get("cut_s") or [0.0])[0]
+    torso_quat = None
+    if tf is not None and observed:
+        torso = tf.torso_at_samples(robot, seen.time_s + first_s)
+        torso_quat = None if torso is None else torso[1]
+    steps = None
+    if torso_quat is not None and robot.foot_links:
+        steps = _steps(seen, torso_quat, robot, required=period == PERIOD_STEPS)
+    elif period == PERIOD_STEPS:
+        raise DatasetError(
+            f"{ds.metadata.get('source', 'recording')}: --period steps finds the steps where "
+            "the feet touch down, from the observed angles (/joint_states) and the torso pose "
+            "on /tf, which this recording lacks; give a period in seconds or 'auto'"
+        )
+    phase_time_s = seen.time_s  # what the cycle's phase is read from, per sample
+    if period == PERIOD_STEPS:
+        period_s = steps.period_s
+        phase_time_s = steps.warped_s[steps.keep]
+        seen = replace(seen, time_s=phase_time_s, targets=seen.targets[steps.keep])
+        ds = replace(ds, time_s=phase_time_s, targets=ds.targets[steps.keep])
+        ds = replace(ds, metadata={**ds.metadata, "step_phase": True})
+    elif period == "auto":
         # The period of what the robot did (its recorded values), not of the targets.
-        seen = cut_dataset(observed_ds, start_s, end_s)
         period_s = detect_period_s(seen.time_s, seen.angles_rad)
         ds = replace(ds, metadata={**ds.metadata, "period_detected": True})
     else:
@@ -349,12 +376,30 @@ def training_dataset(
             period_s = float(period)
         except ValueError:
             raise DatasetError(
-                f"--period must be a number of seconds or 'auto', got {period!r}"
+                f"--period must be a number of seconds, 'auto' or '{PERIOD_STEPS}', got {period!r}"
             ) from None
+        t = np.asarray(ds.time_s, float)
+        # The time the samples cover: first to last, and the last sample's own step.
+        span_s = float(t[-1] - t[0] + np.median(np.diff(t))) if len(t) > 1 else 0.0
+        if period_s > span_s * (1 + 1e-6):  # not one whole cycle in it: nothing to repeat
+            raise DatasetError(
+                f"--period {period_s:g} s is longer than the motion learned ({span_s:.2f} s of "
+                f"{path}); give the period of one cycle, or --period auto"
+            )
+    if steps is not None:
+        _check_period(period_s, steps, period)
+        ds = replace(ds, metadata={**ds.metadata, "steps": steps.summary()})
+        span = first_s + steps.touchdown_s[[0, -1]]
+        speed = tf.walk_speed_m_s(robot, float(span[0]), float(span[1]))
+        if speed is not None:
+            ds = replace(ds, metadata={**ds.metadata, "walk_speed_m_s": speed})
     ds = drop_non_repeating(as_cyclic(ds, period_s))
     if symmetric:
         ds = symmetric_cycle(ds)
-    track = _foot_track(observed_ds, tf, robot, start_s, end_s, period_s) if observed else None
+    track = None
+    if torso_quat is not None:
+        quat = torso_quat if period != PERIOD_STEPS else torso_quat[steps.keep]
+        track = _foot_track(phase_time_s, seen.angles_rad, quat, robot, period_s)
     if track is None:
         return ds
     if symmetric:
@@ -362,23 +407,57 @@ def training_dataset(
     return replace(ds, metadata={**ds.metadata, FOOT_TRACK_KEY: track.to_metadata()})
 
 
-def _foot_track(observed_ds, tf, robot, start_s, end_s, period_s):
+#: ``--period steps``: each step timed on its own, from the feet's touchdowns (``learn.steps``).
+PERIOD_STEPS = "steps"
+#: A period whose ratio to two mean steps lies outside this range is not the walk's cycle.
+_CYCLE_RATIO = (0.8, 1.25)
+
+
+def _steps(seen: Dataset, torso_quat: np.ndarray, robot, required: bool):
+    """The walk's steps (``learn.steps.find_steps``) over the cut ``seen``; None if there are
+    none and they were not ``required``."""
+    from mimic.agents.foot_placement import FootKinematics
+    from mimic.learn.steps import find_steps
+
+    kin = FootKinematics(robot)
+    feet_z = np.stack([kin.feet_height_m(q, quat) for q, quat in zip(seen.angles_rad, torso_quat)])
+    try:
+        return find_steps(seen.time_s, feet_z, str(seen.metadata.get("source", "recording")))
+    except MimicError:
+        if required:
+            raise
+        return None
+
+
+def _check_period(period_s: float, steps, period) -> None:
+    """Refuse a cyclic motion's period that is not the cycle of two steps its feet show."""
+    from mimic.errors import DatasetError
+
+    ratio = period_s / steps.period_s
+    if _CYCLE_RATIO[0] <= ratio <= _CYCLE_RATIO[1]:
+        return
+    how = "found in the angles" if period == "auto" else "given"
+    what = (
+        f"{ratio:.1f} cycles of its steps"
+        if ratio > 1
+        else f"{ratio * 2:.1f} of its steps, not a cycle of two"
+    )
+    raise DatasetError(
+        f"the period {period_s:.3f} s {how} is {what} (the feet show {steps.describe()}: a "
+        f"cycle of two is {steps.period_s:.3f} s); give --period {steps.period_s:.3f}, or "
+        f"--period {PERIOD_STEPS} to time each step on its own"
+    )
+
+
+def _foot_track(phase_time_s, angles_rad, torso_quat, robot, period_s):
     """The recorded cycle's foot track (``agents.foot_placement``: where the feet were under
     the torso by phase, for the balance layer's foot placement), from the observed angles and
-    the torso's orientation on ``/tf`` over the cut (``cut_dataset``, timed as it times the
-    cycle); None without a torso pose or two legs."""
+    the torso's orientation over the cut, each sample at its phase ``phase_time_s /
+    period_s``; None without two legs."""
     from mimic.agents.foot_placement import foot_track
-    from mimic.learn.dataset import cut_dataset
 
-    if tf is None:
-        return None
-    seen = cut_dataset(observed_ds, start_s, end_s)
-    first_s = (seen.metadata.get("cut_s") or [0.0])[0]
-    torso = tf.torso_at_samples(robot, seen.time_s + first_s)
-    if torso is None:
-        return None
     try:
-        return foot_track(seen.time_s, seen.angles_rad, torso[1], robot, period_s)
+        return foot_track(phase_time_s, angles_rad, torso_quat, robot, period_s)
     except MimicError:
         return None
 
@@ -429,6 +508,16 @@ class _RecordedTf:
         quat = _interp_columns(time_s, t, one_hemisphere(track.quat_wxyz))
         quat /= np.linalg.norm(quat, axis=1, keepdims=True)
         return _interp_columns(time_s, t, track.pos_m), quat
+
+    def walk_speed_m_s(self, robot, start_s: float, end_s: float) -> float | None:
+        """The torso's mean speed over the ground from ``start_s`` to ``end_s`` [m/s]: the
+        straight distance between its places then, over the time; None without a torso."""
+        track = self.tracks.get(robot.root_link)
+        if track is None or len(track.times_ns) < 2 or not end_s > start_s:
+            return None
+        t = self._times_s(track)
+        at = _interp_columns(np.array([start_s, end_s]), t, track.pos_m)
+        return round(float(np.hypot(*(at[1, :2] - at[0, :2])) / (end_s - start_s)), 4)
 
     def ball_offset_m(self, robot, cut_s: list[float] | None) -> list[float] | None:
         """Where the ball lay in the robot frame (x forward, y left of the torso [m]) at the

@@ -14,10 +14,18 @@ from __future__ import annotations
 
 from dataclasses import replace
 
-from mimic.agents.other_team_t1.params import KickParams, WalkParams
+from mimic.agents.other_team_t1.params import KickParams, PolicyWalkParams, WalkParams
 from mimic.agents.other_team_t1.walk import OtherTeamT1Walk
 
-__all__ = ["make_walk", "make_kick", "OtherTeamT1Walk", "WalkParams", "KickParams"]
+__all__ = [
+    "make_walk",
+    "make_policy_walk",
+    "make_kick",
+    "OtherTeamT1Walk",
+    "WalkParams",
+    "KickParams",
+    "PolicyWalkParams",
+]
 
 
 def make_walk(vx_m_s: float | None = None) -> OtherTeamT1Walk:
@@ -26,6 +34,18 @@ def make_walk(vx_m_s: float | None = None) -> OtherTeamT1Walk:
     if vx_m_s is not None:
         params = replace(params, speed_m_s=float(vx_m_s))
     return OtherTeamT1Walk(params)
+
+
+def make_policy_walk(vx_m_s: float | None = None):
+    """The team's walk as a learned policy walks (``policy_walk``): toward a target 20 m
+    ahead seen with noise, a step time that adapts every step; forward at ``vx_m_s`` [m/s]
+    (default: its command's)."""
+    from mimic.agents.other_team_t1.policy_walk import OtherTeamT1PolicyWalk
+
+    command = PolicyWalkParams()
+    if vx_m_s is not None:
+        command = replace(command, speed_m_s=float(vx_m_s))
+    return OtherTeamT1PolicyWalk(WalkParams(), command)
 
 
 def make_kick():

@@ -7,7 +7,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-__all__ = ["WalkParams", "KickParams"]
+__all__ = ["WalkParams", "KickParams", "PolicyWalkParams"]
 
 
 @dataclass(frozen=True)
@@ -119,3 +119,41 @@ class KickParams:
     halt_hold_s: float = 0.4
     halt_blend_s: float = 0.6
     settle_s: float = 0.4
+
+
+@dataclass(frozen=True)
+class PolicyWalkParams:
+    """How the policy-like walk commands the team's walk (``policy_walk``): a velocity command
+    toward a target it sees with noise, and a step time that adapts every step."""
+
+    # Forward speed command [m/s].
+    speed_m_s: float = 0.45
+    # The target lies this far ahead of the start, along the start heading [m].
+    target_distance_m: float = 20.0
+    # The target's estimate: sideways error [m] (stationary standard deviation) and how much of
+    # it carries over from one step to the next (0..1; the rest is drawn anew).
+    target_noise_m: float = 1.5
+    target_noise_keep: float = 0.6
+    # Turn command per rad of bearing to the estimated target [rad/s per rad], and its limit
+    # [rad/s].
+    turn_gain: float = 2.0
+    max_turn_rad_s: float = 0.25
+    # Sideways command per rad of bearing [m/s per rad], and its limit [m/s].
+    side_gain: float = 0.5
+    max_side_m_s: float = 0.02
+    # Step time: longer by this share per metre the forward capture point runs ahead of the
+    # plan at the step's start [1/m] (at the commanded speed a longer step lands farther, under
+    # a torso falling ahead) ...
+    timing_capture_gain: float = 1.0
+    # ... plus the estimate's noise (stationary standard deviation, share of the step time,
+    # and how much of it carries over from one step to the next) ...
+    timing_noise: float = 0.15
+    timing_noise_keep: float = 0.9
+    # ... within these shares of the team's step time.
+    min_step_scale: float = 0.75
+    max_step_scale: float = 1.2
+    # Largest change of the step time from one step to the next [cycles of 20 ms].
+    max_step_change_cycles: int = 1
+    # Seed of the team's sensor noise (mixed with its first observation, so each episode
+    # differs and a seeded episode replays exactly).
+    seed: int = 0

@@ -75,6 +75,9 @@ class OtherTeamT1Walk(Agent):
         self._body = Body(get_robot(self.robot))
         self.step_s = params.step_s(CYCLE_S)
         self.period_s = 2 * self.step_s
+        # The step under way: its length in cycles and seconds (fixed here; a walk that adapts
+        # its timing sets them per step in ``_step_timing``).
+        self._step_cycles, self._cur_step_s = params.step_cycles, self.step_s
         self._w_per_s = pendulum_rate_per_s(params.pendulum_height_m)
         self._stop_requested = False
         # A kick step: (its swing side, its first eligible step, swing offset (dx, dz) [m] by
@@ -121,6 +124,7 @@ class OtherTeamT1Walk(Agent):
         self._heading_rad = yaw_rad
         self._body.reset(self._start_rad)
         self._step_index, self._cycle_in_step = -1, 0
+        self._step_cycles, self._cur_step_s = p.step_cycles, self.step_s
         self._step_m = 0.0
         self.kick_step = None
         # Steps in a row of zero length (two bring the feet side by side after a stop).
@@ -157,13 +161,17 @@ class OtherTeamT1Walk(Agent):
             swing_side = -self._support(self._step_index)
             self._to[swing_side][:2] += self._adjust_m
         self._step_index += 1
+        self._step_cycles = self._step_timing(obs)
+        self._cur_step_s = self._step_cycles * CYCLE_S
         self._adjust_m = np.zeros(2)
         self._err_m, self._err_rate = None, np.zeros(2)
-        target = 0.0 if self._stop_requested else min(p.max_step_m, p.speed_m_s * self.step_s)
+        speed, side_m = self._velocity_command(obs)
+        target = 0.0 if self._stop_requested else min(p.max_step_m, speed * self._cur_step_s)
         ramp = p.stop_ramp_m if self._stop_requested else p.step_ramp_m
         self._step_m += float(np.clip(target - self._step_m, -ramp, ramp))
         self._zero_steps = self._zero_steps + 1 if self._step_m == 0.0 else 0
         turn = 0.0 if self._stop_requested else self._turn_rad(obs)
+        side_m = 0.0 if self._stop_requested else side_m
         support = self._support(self._step_index)
         if self.kick_step is not None and self._step_index == self.kick_step + 1:
             self._to = self._measured_feet(obs)  # the kicking foot landed where it could
@@ -177,10 +185,23 @@ class OtherTeamT1Walk(Agent):
             self.kick_step = self._step_index
         self._from = {side: v.copy() for side, v in self._to.items()}
         self._to = {
-            support: self._from[support] - (self._step_m, 0.0, 0.0),
-            -support: np.array([self._step_m / 2, -support * p.foot_y_m, turn / 2]),
+            support: self._from[support] - (self._step_m, side_m, 0.0),
+            -support: np.array([self._step_m / 2, -support * p.foot_y_m + side_m / 2, turn / 2]),
         }
         self._to[support][2] = -turn / 2
+
+    def _step_timing(self, obs: Observation) -> int:
+        """Cycles of the step about to begin: the team's fixed step time."""
+        return self.params.step_cycles
+
+    def _sway_m(self) -> float:
+        """Peak sideways torso shift of the step under way [m]."""
+        return self.params.sway_m
+
+    def _velocity_command(self, obs: Observation) -> tuple[float, float]:
+        """(forward speed [m/s], sideways shift of the torso over this step [m]) of the step
+        about to begin: straight ahead at the team's speed."""
+        return self.params.speed_m_s, 0.0
 
     def _turn_rad(self, obs: Observation) -> float:
         """This step's turn: toward an aim heading that points back at the start line."""
@@ -195,13 +216,14 @@ class OtherTeamT1Walk(Agent):
     def _plan(self, phase: float, support: float) -> dict[float, np.ndarray]:
         """Foot (x, y, z, yaw) relative to the torso in the walk frame at ``phase`` (0..1]."""
         p = self.params
-        torso_y = support * p.sway_m * sway(phase, self._w_per_s, self.step_s)
+        step_s = self._cur_step_s
+        torso_y = support * self._sway_m() * sway(phase, self._w_per_s, step_s)
         feet = {}
         for side in _SIDES:
             a, b = self._from[side], self._to[side]
             if side == support:  # the leg a little longer for its sag under the load
-                s = advance(phase, self._w_per_s, self.step_s)
-                z = -p.torso_height_m - p.leg_sag_m * sway(phase, self._w_per_s, self.step_s)
+                s = advance(phase, self._w_per_s, step_s)
+                z = -p.torso_height_m - p.leg_sag_m * sway(phase, self._w_per_s, step_s)
             else:  # the first step only rocks the weight over (the pendulum needs momentum)
                 s, lift = swing(phase, p.lift_off, p.touch_down)
                 z = -p.torso_height_m + p.step_height_m * lift * (self._step_index > 0)
@@ -322,19 +344,19 @@ class OtherTeamT1Walk(Agent):
             return self._feedback(self._last_plan_rad.copy(), obs, None, w)
         if self._state == "walking":
             self._cycle_in_step += 1
-            if self._step_index < 0 or self._cycle_in_step > p.step_cycles:
+            if self._step_index < 0 or self._cycle_in_step > self._step_cycles:
                 if self._stop_requested and self._zero_steps >= 2:
                     self._enter("halting")
                     return self._references(obs)
                 self._begin_step(obs)
                 self._cycle_in_step = 1
             support = self._support(self._step_index)
-            phase = self._cycle_in_step / p.step_cycles
+            phase = self._cycle_in_step / self._step_cycles
             self._place(obs, self._plan(phase, support), support)
             plan = self._plan(phase, support)
             q = self._body.joints(self._poses(plan), self._arms(plan))
             self._last_plan_rad = q.copy()
-            self._presag(q, support, sway(phase, self._w_per_s, self.step_s))
+            self._presag(q, support, sway(phase, self._w_per_s, self._cur_step_s))
             return self._feedback(q, obs, support)
         # halting, then standing: hold the last stance, blend into the stand pose
         if self._halt_from is None:
