@@ -9,8 +9,10 @@ from typing import Annotated
 import typer
 from rich.progress import BarColumn, Progress, TextColumn
 from rich.table import Table
+from rich.text import Text
 
 from mimic.cli.common import FORCE, console, err_console, reports_errors, warn
+from mimic.league.untrusted import printable
 
 __all__ = ["register", "print_recording_summary"]
 
@@ -42,8 +44,8 @@ def print_recording_summary(summary: dict) -> None:
         ("state", "interrupted" if summary["interrupted"] else "complete"),
         ("recovery", summary["recovery"]),
     ]
-    for key, value in rows:
-        table.add_row(key, "-" if value is None else str(value))
+    for key, value in rows:  # values may come from outside (a team name in a game log)
+        table.add_row(key, Text("-" if value is None else printable(str(value))))
     for topic, t in summary["topics"].items():
         table.add_row(topic, f"{t['messages']} messages ({t['schema']})")
     console.print(table)
@@ -312,7 +314,7 @@ def register(app: typer.Typer) -> None:
             input_file(paper_file, "game log", "write one with 'rcssservermj --logfile FILE'")
             if not all_players:
                 check_output(out, force=force, inputs=[paper_file])
-            return import_log(paper_file, out, team, player, all_players, robot)
+            return import_log(paper_file, out, team, player, all_players, robot, force)
         options.finite(distance, "--distance", at_least=0)
         check_output(out, force=force, inputs=[paper_file])
         import_paper_file(paper_file, out, topic=topic, distance_m=distance, overwrite=force)
