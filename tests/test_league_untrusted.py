@@ -269,12 +269,18 @@ def test_random_bytes_end_a_recording_with_one_line(tmp_path):
 
 
 def _interrupt_after(
-    proc: subprocess.Popen, fake: FakeMonitor, seconds: float, sig: int = signal.SIGINT
+    proc: subprocess.Popen,
+    fake: FakeMonitor,
+    seconds: float,
+    sig: int = signal.SIGINT,
+    ready=lambda: True,
 ) -> tuple[str, float]:
-    """Signal ``proc`` ``seconds`` after it connected to ``fake``; its stderr and how long it
-    took to end."""
+    """Signal ``proc`` ``seconds`` after it connected to ``fake`` and ``ready()`` holds; its
+    stderr and how long it took to end."""
     deadline = time.monotonic() + 60  # mimic starting on a busy machine
-    while not fake.connections and proc.poll() is None and time.monotonic() < deadline:
+    while not (fake.connections and ready()) and proc.poll() is None:
+        if time.monotonic() > deadline:
+            break
         time.sleep(0.05)
     time.sleep(seconds)
     assert proc.poll() is None, proc.communicate()
@@ -479,7 +485,10 @@ def test_sigterm_ends_a_recording_with_its_file_finished(real, tmp_path):
             ["record", "--server", fake.address, "--team", TEAM, "--player", str(PLAYER)]
             + ["-o", str(out)]
         )
-        stderr, _ = _interrupt_after(proc, fake, 2.0, signal.SIGTERM)
+        # Once it records (its unfinished file is there): on a busy machine the wait for the
+        # player alone can take the first seconds.
+        started = lambda: any(tmp_path.glob("live.partial-*"))  # noqa: E731
+        stderr, _ = _interrupt_after(proc, fake, 2.0, signal.SIGTERM, ready=started)
     assert proc.returncode == 143, stderr
     assert "terminated" in stderr and "Traceback" not in stderr
     rec = read_recording(out)
