@@ -8,7 +8,7 @@ from typing import Annotated
 import typer
 from rich.progress import BarColumn, Progress, TextColumn
 
-from mimic.cli.common import console, err_console, fail, reports_errors
+from mimic.cli.common import console, err_console, fail, reports_errors, warn
 
 __all__ = ["register"]
 
@@ -64,14 +64,19 @@ def register(app: typer.Typer) -> None:
 
         if not (settle >= 0 and settle < float("inf")):
             fail(f"--settle must be a finite number of seconds >= 0, got {settle}")
-        if vx is not None:
+        if vx is not None or server is not None:
             from mimic.agents.registry import agent_spec
+            from mimic.league.play import settle_note
             from mimic.robot.registry import get_robot
 
-            options.finite(vx, "--vx", above=0)
+            if vx is not None:
+                options.finite(vx, "--vx", above=0)
             built = agent_spec(agent, robot=robot, speed_m_s=vx).build()
             built.check_robot(get_robot(robot))
             agent = built
+            note = settle_note(built, server is None, settle)
+            if note:
+                warn(note)
 
         with Progress(
             TextColumn(f"{team} #{player} playing"),
