@@ -3,7 +3,7 @@ hosted league server's monitor, our NAO's seen through ``/joint_states`` in our 
 with ``mimic train`` and tried against the originals in ``mimic trial getup``.
 
     python benchmarks/getup_copies.py [--out DIR] [--robot t1|nao] [--side front|back]
-        [--runs 10] [--seed 1000] [--budget 60] [--workers 2]
+        [--runs 10] [--seed 1000] [--budget 100] [--workers 2]
 
 Each step is what a user would type (``league_record.record_black_box`` stands for the two
 processes of the README's league block: the motion played on a server while ``mimic record
@@ -16,9 +16,10 @@ processes of the README's league block: the motion played on a server while ``mi
 2. ``mimic train REC --end E --target reached`` (the study's method) and ``mimic train REC
    --end E`` (compensated, the default for observed angles): the models know they start
    lying (``start_posture``, from the torso at the window's start).
-3. ``mimic improve COPY.mimic --objective getup --budget B --seed 3`` in our world: the
-   compensated copy's time warp, per-leg-joint offsets and gains searched on get-up trial
-   episodes (``--validate 0``: the trial below is the validation).
+3. ``mimic improve COPY.mimic --objective getup --budget B --seed 3``: the compensated
+   copy's time warp, per-leg-joint offsets and gains searched on get-up trial episodes, the
+   T1's in our world made league-like (``--world league-like``: the league's solver and
+   command delay), the NAO's in ours (``--validate 0``: the trial below is the validation).
 4. ``mimic trial getup --compare ORIGINAL REACHED COMPENSATED IMPROVED --runs R --seed S``:
    the T1 in the league's server (``--world league``) and in ours, the NAO in ours.
 
@@ -65,10 +66,11 @@ def learn(robot: str, side: str, rec: Path, end_s: float, out: Path, budget: int
     improved = out / f"{robot}_{side}_improved.mimic"
     mimic("train", str(rec), *window, *topic, "--target", "reached", "-o", str(reached), "--force")
     mimic("train", str(rec), *window, *topic, "-o", str(compensated), "--force")
+    world = "league-like" if robot == "t1" else "mujoco"
     mimic(
-        "improve", str(compensated), "--objective", "getup", "--robot", robot, "--budget",
-        str(budget), "--episodes", "3", "--validate", "0", "--seed", str(IMPROVE_SEED), "-o",
-        str(improved), "--force",
+        "improve", str(compensated), "--objective", "getup", "--robot", robot, "--world", world,
+        "--budget", str(budget), "--episodes", "4", "--validate", "0", "--seed",
+        str(IMPROVE_SEED), "-o", str(improved), "--force",
     )  # fmt: skip
     return [str(reached), str(compensated), str(improved)]
 
@@ -89,7 +91,7 @@ def main() -> None:
     parser.add_argument("--side", choices=("front", "back"), action="append")
     parser.add_argument("--runs", type=int, default=10)
     parser.add_argument("--seed", type=int, default=1000)
-    parser.add_argument("--budget", type=int, default=60)
+    parser.add_argument("--budget", type=int, default=100)
     parser.add_argument("--workers", type=int, default=2)
     args = parser.parse_args()
     args.out.mkdir(parents=True, exist_ok=True)

@@ -224,3 +224,21 @@ def test_getup_trial_compares_get_ups_by_success_and_time(tmp_path):
 def test_getup_trial_cli_refuses_an_agent_that_does_not_lie(tmp_path):
     res = CliRunner().invoke(app, ["trial", "getup", "walk", "--runs", "1", "--workers", "1"])
     assert res.exit_code == 2 and "--side front or --side back" in res.output
+
+
+def test_the_league_like_world_applies_each_command_a_cycle_late():
+    from mimic.robot.actuators import JointCommand
+    from mimic.trials.worlds import default_robot, open_world
+
+    assert default_robot("league-like") == "t1"
+    with open_world("league-like", "t1") as world:
+        world.reset()
+        world.place_robot(0.0, 0.0, 0.0, np.asarray(T1.stand_pose_rad))
+        knee = T1.joint_names.index("Left_Knee_Pitch")
+        bent = np.asarray(T1.stand_pose_rad).copy()
+        bent[knee] += 0.5
+        before = world.joint_angles_rad()[knee]
+        world.step(JointCommand.references(bent))
+        assert abs(world.joint_angles_rad()[knee] - before) < 0.02  # the cycle before's
+        world.step(JointCommand.references(bent))
+        assert world.joint_angles_rad()[knee] - before > 0.05

@@ -215,7 +215,11 @@ def _world_text(result) -> str:
     """How the table's episodes were played, for its title: the world and, for kicks, how
     the robot reached the ball."""
     row = result.summary.row(0, named=True)
-    world = {"league": "league world (RCSSServerMJ)", "mujoco": "our MuJoCo world"}.get(
+    world = {
+        "league": "league world (RCSSServerMJ)",
+        "mujoco": "our MuJoCo world",
+        "league-like": "our MuJoCo world with the league's solver and command delay",
+    }.get(
         row.get("world"), "our MuJoCo world"
     )
     reach = {
