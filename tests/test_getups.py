@@ -242,3 +242,20 @@ def test_the_league_like_world_applies_each_command_a_cycle_late():
         assert abs(world.joint_angles_rad()[knee] - before) < 0.02  # the cycle before's
         world.step(JointCommand.references(bent))
         assert world.joint_angles_rad()[knee] - before > 0.05
+
+
+def test_the_getup_objective_scores_standing_first_then_speed():
+    from mimic.improve.objectives import make_objective
+    from mimic.trials.parallel import EpisodeBatch
+
+    objective = make_objective("getup", episodes=2)
+    fast, slow, down = (
+        dict(stood=True, time_to_stand_s=5.0),
+        dict(stood=True, time_to_stand_s=9.0),
+        dict(stood=False, time_to_stand_s=None),
+    )
+
+    def score(*rows):
+        return objective.score(EpisodeBatch(list(rows), []))
+
+    assert score(fast, fast) > score(slow, slow) > score(fast, down) > score(down, down)

@@ -111,6 +111,9 @@ def check_trial(
 
             reach_method(config, spec.robot)
     check_variants(kind, specs)
+    if kind == "getup" and config is not None:
+        for spec in specs:  # each lies down on a side: its own, or the one given
+            config.side_for(spec.build().start_posture)
 
 
 def _run(
