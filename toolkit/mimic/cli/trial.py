@@ -219,9 +219,7 @@ def _world_text(result) -> str:
         "league": "league world (RCSSServerMJ)",
         "mujoco": "our MuJoCo world",
         "league-like": "our MuJoCo world with the league's solver and command delay",
-    }.get(
-        row.get("world"), "our MuJoCo world"
-    )
+    }.get(row.get("world"), "our MuJoCo world")
     reach = {
         "place": "robot placed behind the ball after each kick",
         "walk": "robot walks to the ball",
