@@ -19,7 +19,7 @@ import numpy as np
 from mimic.agents.hold import HoldPose
 from mimic.agents.registry import AgentSpec
 from mimic.episode import Episode, PoseNoise, PoseTrace, Scene, run
-from mimic.episode.observers import UprightLog
+from mimic.episode.observers import Observer, UprightLog
 from mimic.errors import MimicError
 from mimic.trials.worlds import open_world, world_kind
 from mimic.world.base import CYCLE_S
@@ -89,6 +89,16 @@ def getup_scene(config: GetupTrialConfig, side: str) -> Scene:
     )
 
 
+class _Highest(Observer):
+    """The highest the torso got [m]."""
+
+    def __init__(self) -> None:
+        self.height_m = 0.0
+
+    def after_step(self, world) -> None:
+        self.height_m = max(self.height_m, float(world.torso_pos_m()[2]))
+
+
 def run_getup_episode(
     getup: AgentSpec, seed: int, config: GetupTrialConfig = GetupTrialConfig()
 ) -> tuple[list[dict], dict]:
@@ -107,8 +117,9 @@ def _play_getup_episode(
     episode = Episode(world, observers=(trace,) if trace else ())
     getup_scene(config, side).setup(world, np.random.default_rng(seed), observers=episode.watchers)
     log = UprightLog()
+    highest = _Highest()
     t0 = world.time_s
-    outcome = run(world, agent, max_s=config.timeout_s, observers=(*episode.watchers, log))
+    outcome = run(world, agent, max_s=config.timeout_s, observers=(*episode.watchers, log, highest))
     motion_s = world.time_s - t0
     last = agent.reference_rad
     if last is not None and config.after_s > 0:
@@ -116,7 +127,7 @@ def _play_getup_episode(
             world,
             HoldPose(np.asarray(last, float), world.robot.name),
             max_s=config.after_s,
-            observers=(*episode.watchers, log),
+            observers=(*episode.watchers, log, highest),
         )
     upright = bool(world.upright())
     # The run of upright cycles that reaches the end, counted back.
@@ -131,6 +142,7 @@ def _play_getup_episode(
         motion_s=motion_s,
         end={"done": "done", "timeout": "timeout", "stop": "stop", "fell": "fell"}[outcome.end],
         torso_height_m=float(world.torso_pos_m()[2]),
+        max_torso_height_m=highest.height_m,
         duration_s=world.time_s,
         falls=0 if upright else 1,
         world=world_kind(config.world),
