@@ -21,6 +21,8 @@ from rcsssmj.games.soccer.server.soccer_server import SoccerSimServer
 from rcsssmj.server.remote_monitor import SimMonitor
 from rcsssmj.sim.state_info import SceneGraph
 
+from mimic.league import hosted_server
+
 
 class TruthMonitor(SimMonitor):
     """Writes the true state of every robot at every monitor frame."""
@@ -69,6 +71,7 @@ def main() -> None:
         self._monitors.append(TruthMonitor(truth_path))
 
     SoccerSimServer.__init__ = init
+    hosted_server.apply()  # as mimic hosts it: sends safe against a peer that leaves
     server_main.soccer_sim()
 
 

@@ -170,7 +170,10 @@ def test_training_cuts_a_black_box_kick_and_finds_where_it_wanted_the_ball(tmp_p
     res = CliRunner().invoke(
         app, ["train", str(path), "--period", "x", "-o", str(tmp_path / "x.mimic")]
     )
-    assert res.exit_code == 2 and "--period must be a number of seconds or 'auto'" in res.output
+    assert (
+        res.exit_code == 2
+        and "--period must be a number of seconds, 'auto' or 'steps'" in res.output
+    )
 
 
 def test_a_ball_lying_aside_is_not_a_kicks_ball(tmp_path):

@@ -97,6 +97,28 @@ def test_quick_start_uses_only_options_that_exist_and_files_made_before():
                     )
 
 
+def test_quick_start_writes_only_under_out_and_models():
+    """The quick start says it writes into out/ and models/: every file a command of it names
+    as an output is there, none in the repository's root (#31: walk.json, improve.rrd)."""
+    import shlex
+
+    from typer.main import get_command
+
+    from mimic.cli.main import app
+
+    group = get_command(app)
+    outputs = []
+    for command in _new_user().quickstart_commands((REPO / "README.md").read_text()):
+        words = shlex.split(command)
+        if words[0] == "rerun" or "--help" in words:
+            continue
+        _, params = _parse(group, words[1:])
+        outputs += [Path(v) for k, v in params.items() if k in _OUTPUTS and v is not None]
+    assert outputs
+    for path in outputs:
+        assert not path.is_absolute() and path.parts[0] in ("out", "models"), path
+
+
 @pytest.mark.slow
 def test_readme_quick_start_runs_in_order_on_a_fresh_copy(tmp_path):
     new_user = _new_user()
@@ -137,6 +159,8 @@ def test_readme_quick_start_runs_in_order_on_a_fresh_copy(tmp_path):
         "out/kick.parquet",
         "models/other_team_walk.mimic",
         "out/paper/walk_trial.parquet",
+        "out/walk.json",
+        "out/improve.rrd",
     ):
         assert (clone / made).is_file(), made
     assert {p.name: p.read_bytes() for p in (clone / "recordings").glob("*.mcap")} == shipped

@@ -13,12 +13,21 @@ Outputs:
   partial file reads like any truncated recording (``mimic info`` shows what it holds).
 * Parent folders are created when the file is written (``check_output`` only checks that
   they can be).
+* An output is never also an input: ``check_output(..., inputs=...)`` refuses, with or
+  without ``--force`` (``mimic play M.mimic -o M.mimic`` would destroy the model).
+* One writer per output: while a command writes a file (``PendingOutput``, or from
+  ``claim_output`` on, for a command that waits before it writes) it holds an exclusive lock
+  (``.NAME.lock`` beside it, removed when done; a killed command's lock is released by the
+  system), and a second command for the same file is refused at once.
+* Outputs get the mode a plain ``open()`` gives (``0o666`` less the umask), not the
+  ``0o600`` of a temporary file.
 """
 
 from __future__ import annotations
 
 import os
 import tempfile
+import threading
 from collections.abc import Iterable, Iterator
 from contextlib import contextmanager
 from pathlib import Path
@@ -32,6 +41,10 @@ __all__ = [
     "check_outputs",
     "PendingOutput",
     "atomic_output",
+    "claim_output",
+    "same_file",
+    "spec_files",
+    "plain_file_mode",
     "PARTIAL_MARK",
 ]
 
@@ -64,17 +77,53 @@ def input_file(path: str | Path, what: str = "file", hint: str = "") -> Path:
     return path
 
 
-def check_output(path: str | Path, *, force: bool = False, flag: str = "--force") -> Path:
+def same_file(a: str | Path, b: str | Path) -> bool:
+    """True when ``a`` and ``b`` name one file (links and ``..`` resolved)."""
+    try:
+        return os.path.samefile(a, b)
+    except OSError:  # one of them does not exist (yet)
+        return os.path.realpath(a) == os.path.realpath(b)
+
+
+def spec_files(*specs: str | Path | None) -> list[Path]:
+    """The files agent specs name (``kick.mimic+balance``: ``kick.mimic``; ``walk.json``,
+    ``kick.txt``), for ``check_output``'s ``inputs``; names of shipped motions and behaviours
+    (no suffix) name no file."""
+    out = []
+    for spec in specs:
+        if spec is None:
+            continue
+        path = Path(str(spec).removesuffix("+balance"))
+        if path.suffix:
+            out.append(path)
+    return out
+
+
+def check_output(
+    path: str | Path,
+    *,
+    force: bool = False,
+    flag: str = "--force",
+    inputs: Iterable[str | Path | None] = (),
+) -> Path:
     """Before the work: ``path`` can be written (its folder exists or can be created; nothing
-    is created yet).
+    is created yet), is none of the command's ``inputs``, and no other command is writing it.
 
     Raises:
-        OutputError: ``path`` is a folder, exists and ``force`` is False, or its folder cannot
-            be created or written.
+        OutputError: ``path`` is a folder, is an input, exists and ``force`` is False, another
+            command is writing it, or its folder cannot be created or written.
     """
     path = Path(path)
     if path.is_dir():
         raise OutputError(f"{path}: is a directory; give a file name for the output")
+    for source in inputs:
+        if source is not None and same_file(path, source):
+            raise OutputError(
+                f"{path} is also an input of this command; give the output another name"
+            )
+    holder = _claim_holder(path)
+    if holder is not None:
+        raise OutputError(_busy(path, holder))
     if path.exists() and not force:
         raise OutputError(f"{path} exists; pass {flag} to replace it, or choose another name")
     existing = Path(os.path.abspath(path)).parent
@@ -87,17 +136,152 @@ def check_output(path: str | Path, *, force: bool = False, flag: str = "--force"
     return path
 
 
-def check_outputs(paths: Iterable[str | Path | None], *, force: bool = False) -> list[Path]:
+def check_outputs(
+    paths: Iterable[str | Path | None],
+    *,
+    force: bool = False,
+    inputs: Iterable[str | Path | None] = (),
+) -> list[Path]:
     """``check_output`` for each path given (None entries are skipped); no path twice."""
     out: list[Path] = []
+    inputs = list(inputs)
     for p in paths:
         if p is None:
             continue
         p = Path(p)
         if any(os.path.abspath(p) == os.path.abspath(q) for q in out):
             raise OutputError(f"{p} is given for two outputs; give each its own file")
-        out.append(check_output(p, force=force))
+        out.append(check_output(p, force=force, inputs=inputs))
     return out
+
+
+def plain_file_mode() -> int:
+    """The mode ``open(path, "w")`` gives a new file: ``0o666`` less the process's umask."""
+    try:
+        with open("/proc/self/status") as f:
+            for line in f:
+                if line.startswith("Umask:"):
+                    return 0o666 & ~int(line.split()[1], 8)
+    except (OSError, ValueError, IndexError):
+        pass
+    with _UMASK_LOCK:  # no /proc: read the umask by setting it (and back at once)
+        umask = os.umask(0o022)
+        os.umask(umask)
+    return 0o666 & ~umask
+
+
+_UMASK_LOCK = threading.Lock()
+
+# --- one writer per output ------------------------------------------------------------------
+#: Outputs this process holds: absolute path -> [lock file descriptor, holders].
+_CLAIMS: dict[str, list[int]] = {}
+
+
+def _lock_path(path: Path) -> Path:
+    return path.with_name(f".{path.name}.lock")
+
+
+def _busy(path: Path, holder: str) -> str:
+    return (
+        f"{path} is being written by another command ({holder}); wait for it to "
+        "finish, or choose another name"
+    )
+
+
+def _claim_holder(path: Path) -> str | None:
+    """Who holds ``path`` (``pid N``), when another process does; None when nobody does."""
+    try:
+        import fcntl
+    except ImportError:  # not POSIX: no locks
+        return None
+    if os.path.abspath(path) in _CLAIMS:
+        return None
+    try:
+        fd = os.open(_lock_path(path), os.O_RDONLY)
+    except OSError:
+        return None
+    try:
+        fcntl.flock(fd, fcntl.LOCK_SH | fcntl.LOCK_NB)
+    except BlockingIOError:
+        text = os.pread(fd, 32, 0).decode(errors="replace").strip()
+        return f"pid {text}" if text.isdigit() else "another process"
+    except OSError:
+        return None
+    finally:
+        os.close(fd)
+    return None
+
+
+def _acquire(path: Path) -> None:
+    key = os.path.abspath(path)
+    if key in _CLAIMS:
+        _CLAIMS[key][1] += 1
+        return
+    try:
+        import fcntl
+    except ImportError:
+        _CLAIMS[key] = [-1, 1]
+        return
+    lock = _lock_path(Path(key))
+    while True:
+        try:
+            fd = os.open(lock, os.O_RDWR | os.O_CREAT, 0o666)
+        except OSError as err:
+            raise OutputError(
+                f"{path}: cannot write in {path.parent} ({err.strerror or err})"
+            ) from None
+        try:
+            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except BlockingIOError:
+            holder = os.pread(fd, 32, 0).decode(errors="replace").strip()
+            os.close(fd)
+            raise OutputError(
+                _busy(path, f"pid {holder}" if holder.isdigit() else "another process")
+            ) from None
+        try:  # its last holder may have removed it between our open and our lock
+            if os.fstat(fd).st_ino == os.stat(lock).st_ino:
+                break
+        except FileNotFoundError:
+            pass
+        os.close(fd)
+    os.ftruncate(fd, 0)
+    os.pwrite(fd, str(os.getpid()).encode(), 0)
+    _CLAIMS[key] = [fd, 1]
+
+
+def _release(path: Path) -> None:
+    key = os.path.abspath(path)
+    claim = _CLAIMS.get(key)
+    if claim is None:
+        return
+    claim[1] -= 1
+    if claim[1] > 0:
+        return
+    del _CLAIMS[key]
+    if claim[0] >= 0:
+        try:
+            os.unlink(_lock_path(Path(key)))  # while locked: nobody else removes it
+        except OSError:
+            pass
+        os.close(claim[0])
+
+
+@contextmanager
+def claim_output(path: str | Path) -> Iterator[Path]:
+    """Hold ``path`` as this command's output for the block: another command that writes it
+    meanwhile is refused (``check_output`` and ``PendingOutput`` see the claim). For a command
+    that waits before it writes (``mimic record --server``). Creates the parent folders.
+
+    Raises:
+        OutputError: another command holds ``path``, or its folder cannot be written.
+    """
+    path = Path(path)
+    _make_parent(path)
+    _acquire(path)
+    try:
+        yield path
+    finally:
+        _release(path)
 
 
 def _make_parent(path: Path) -> None:
@@ -126,15 +310,20 @@ class PendingOutput:
         if self.path.is_dir():
             raise OutputError(f"{self.path}: is a directory; give a file name for the output")
         _make_parent(self.path)
+        _acquire(self.path)
         try:
             fd, tmp = tempfile.mkstemp(
                 dir=self.path.parent, suffix=self.path.suffix, prefix=self.path.stem + PARTIAL_MARK
             )
         except OSError as err:
+            _release(self.path)
             raise OutputError(
                 f"{self.path}: cannot write in {self.path.parent} ({err.strerror or err})"
             ) from None
-        os.close(fd)
+        try:
+            os.fchmod(fd, plain_file_mode())  # mkstemp makes it 0o600
+        finally:
+            os.close(fd)
         self.tmp = Path(tmp)
         self.done = False
 
@@ -142,18 +331,27 @@ class PendingOutput:
         """Move the written file to its name; returns the name."""
         if self.done:
             return self.path
+        try:
+            return self._commit()
+        finally:
+            if self.done:
+                _release(self.path)
+
+    def _commit(self) -> Path:
         if self.overwrite:
             os.replace(self.tmp, self.path)
         else:
             try:
                 os.link(self.tmp, self.path)  # fails if the name exists: never replaces
             except FileExistsError:
+                self.done = True  # the temporary file stays, under its name in the message
                 raise OutputError(
                     f"{self.path} appeared while this command ran; kept the new "
                     f"file as {self.tmp}; pass --force to replace"
                 ) from None
             except OSError:  # no hard links here: check, then move
                 if self.path.exists():
+                    self.done = True
                     raise OutputError(
                         f"{self.path} appeared while this command ran; kept the "
                         f"new file as {self.tmp}; pass --force to replace"
@@ -172,6 +370,8 @@ class PendingOutput:
                 os.unlink(self.tmp)
             except FileNotFoundError:
                 pass
+            finally:
+                _release(self.path)
 
 
 @contextmanager

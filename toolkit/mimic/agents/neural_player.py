@@ -32,6 +32,12 @@ DEFAULT_START_RAMP_S = 3.0
 #: Robots whose walks ramp up over another time [s]: the T1's, searched with its balance gains
 #: (``agents.balance``).
 _START_RAMP_S = {"t1": 3.84}
+#: The step length [m] of the copies the robot's ramp above was searched on (the T1 other
+#: team's walk: 0.639 m/s at 0.42 s a step). A walk whose model knows its step length (learned
+#: step by step: ``WALK_SPEED_KEY`` and its period) ramps in proportion, as a walk engine ramps
+#: its step length by a fixed amount per step: a shorter step is reached sooner. (The T1 copy
+#: of a 0.27 m step fell in every run with a 2.5 s ramp; the copy of a 0.17 m step walked.)
+_RAMP_STEP_M = {"t1": 0.268}
 
 # Phases sampled to find a cyclic model's mean pose.
 _MEAN_SAMPLES = 64
@@ -41,12 +47,25 @@ WALK_SPEED_KEY = "walk_speed_m_s"
 #: cycle, within ``RATE_RANGE`` of the learned rate (T1 copies fell at 1.15-1.2).
 RATE_GAIN = 0.5
 RATE_RANGE = (0.8, 1.1)
+#: ... changing by at most this much per gait cycle (a sudden step up in rate upsets the gait).
+RATE_STEP = 0.02
 
 
 def _smooth_step(x: float) -> float:
     """0 -> 1 cosine blend for x in [0, 1] (clamped outside), zero slope at both ends."""
     x = min(1.0, max(0.0, x))
     return 0.5 - 0.5 * math.cos(math.pi * x)
+
+
+def _default_start_ramp_s(model: MotionModel) -> float:
+    """A cyclic model's start ramp [s]: its robot's, in proportion to its step length where
+    the model knows it and the robot's ramp has a step length (``_RAMP_STEP_M``)."""
+    ramp_s = _START_RAMP_S.get(model.robot, DEFAULT_START_RAMP_S)
+    speed = model.metadata.get(WALK_SPEED_KEY) if model.cyclic else None
+    if speed is None or model.robot not in _RAMP_STEP_M:
+        return ramp_s
+    step_m = float(speed) * model.period_s / 2
+    return ramp_s * step_m / _RAMP_STEP_M[model.robot]
 
 
 class NeuralPlayer(Agent):
@@ -63,8 +82,8 @@ class NeuralPlayer(Agent):
     ``start_ramp_s`` [s] (default: the robot's; both ignored by one-shot models). A cyclic
     walk with a commanded forward speed ``speed_m_s`` [m/s] (default: the speed its recording
     walked, for models learned step by step) holds it by its phase rate: once per gait cycle
-    after the start-up, the rate moves by ``RATE_GAIN`` of the relative speed error, within
-    ``RATE_RANGE`` (the torso's travel from ``Observation.torso_pos_m``).
+    after the start-up, the rate moves by ``RATE_GAIN`` of the relative speed error (at most
+    ``RATE_STEP``), within ``RATE_RANGE`` (the torso's travel from ``Observation.torso_pos_m``).
     """
 
     team = "mimic"
@@ -83,7 +102,7 @@ class NeuralPlayer(Agent):
         self.robot = model.robot
         self.speed_rate, self.max_overrun_s = speed_rate, max_overrun_s
         if start_ramp_s is None:
-            start_ramp_s = _START_RAMP_S.get(model.robot, DEFAULT_START_RAMP_S)
+            start_ramp_s = _default_start_ramp_s(model)
         self.stance_s, self.start_ramp_s = float(stance_s), float(start_ramp_s)
         self.name = model.name
         # A learned get-up starts lying, as its recording did.
@@ -196,7 +215,8 @@ class NeuralPlayer(Agent):
         if self._cycle_start is not None and self.swing_weight >= 1.0:
             _, since_s, xy0 = self._cycle_start
             speed = float(np.hypot(*(xy - xy0))) / max(walk_s - since_s, 1e-9)
-            rate = self.speed_rate * (1 + RATE_GAIN * (self.speed_m_s - speed) / self.speed_m_s)
+            change = RATE_GAIN * (self.speed_m_s - speed) / self.speed_m_s * self.speed_rate
+            rate = self.speed_rate + float(np.clip(change, -RATE_STEP, RATE_STEP))
             self.retime(float(np.clip(rate, *RATE_RANGE)), walk_s)
         self._cycle_start = (cycle, walk_s, xy)
 

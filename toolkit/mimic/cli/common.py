@@ -12,6 +12,7 @@ from typing import TypeVar
 import typer
 from rich.console import Console
 from rich.markup import escape
+from typer.core import TyperGroup
 
 from mimic.errors import MimicError
 
@@ -25,6 +26,7 @@ __all__ = [
     "SAVE",
     "SAVE_OLD",
     "save_path",
+    "OneLineUsageErrors",
 ]
 
 console = Console()
@@ -81,6 +83,44 @@ def warn(message: str) -> None:
     )
 
 
+def _usage_errors():
+    """(click's UsageError, its no-arguments-so-help subclass) of the click Typer uses."""
+    try:  # typer >= 0.20 carries its own click
+        from typer._click import exceptions
+    except ImportError:
+        from click import exceptions
+    return exceptions.UsageError, getattr(exceptions, "NoArgsIsHelpError", ())
+
+
+class OneLineUsageErrors(TyperGroup):
+    """The application's command groups: a bad option value, a missing option or an unknown
+    command is one line, ``error: what (where); see 'mimic CMD --help'``, exit status 2, as
+    every other bad input (not Typer's multi-line box)."""
+
+    def make_context(self, *args, **kwargs):
+        with _one_line_usage():
+            return super().make_context(*args, **kwargs)
+
+    def invoke(self, ctx):
+        with _one_line_usage():
+            return super().invoke(ctx)
+
+
+class _one_line_usage:  # noqa: N801 (a context manager used like a function)
+    def __enter__(self) -> None:
+        return None
+
+    def __exit__(self, exc_type, exc, tb) -> bool:
+        usage, help_only = _usage_errors()
+        if exc is None or not isinstance(exc, usage) or isinstance(exc, help_only):
+            return False
+        where = exc.ctx.command_path if exc.ctx is not None else "mimic"
+        what = " ".join(exc.format_message().split()).rstrip(".")
+        what = what[:1].lower() + what[1:] if what[1:2].islower() else what
+        fail(f"{what} ({where}); see '{where} --help'", 2)
+        return False
+
+
 def reports_errors(func: F) -> F:
     """Decorator for commands: a ``MimicError`` becomes one clear line and a non-zero exit, and
     so does an error of the file system (disk full, permission denied); Ctrl-C exits with 130
@@ -88,8 +128,15 @@ def reports_errors(func: F) -> F:
 
     @functools.wraps(func)
     def wrapper(*args, **kwargs):
+        from mimic.sigint import Terminated, sigterm_raises
+
         try:
-            return func(*args, **kwargs)
+            with sigterm_raises():
+                return func(*args, **kwargs)
+        except Terminated:  # SIGTERM: cleaned up as after Ctrl-C (workers, servers, files)
+            err_console.print("terminated", highlight=False)
+            sys.stderr.flush()
+            raise typer.Exit(143) from None
         except MimicError as err:
             fail(str(err), err.exit_code)
         except OSError as err:

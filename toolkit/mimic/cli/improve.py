@@ -41,6 +41,7 @@ def _search_bar(budget: int):
         TextColumn("{task.fields[status]}"),
         TimeElapsedColumn(),
         console=console,
+        disable=not console.is_terminal,  # no bar, and no blank line, in a pipe
     )
     task = progress.add_task("search", total=budget, status="")
 
@@ -158,11 +159,20 @@ def _improve(
     robot: Annotated[str | None, ROBOT] = None,
     success_m: Annotated[float | None, SUCCESS_M] = None,
     force: Annotated[bool, FORCE] = False,
+    keep_worse: Annotated[
+        bool,
+        typer.Option(
+            "--keep-worse",
+            help="Write the improved candidate even when it validates worse than the "
+            "starting point (default: write the starting point then).",
+        ),
+    ] = False,
 ) -> None:
-    """Improve a motion with CMA-ES, scored by trial episodes; validate on held-out episodes."""
+    """Improve a motion with CMA-ES, scored by trial episodes; validate on held-out episodes;
+    a result that validates worse than the starting point is not kept (--keep-worse)."""
     from mimic import options
     from mimic.cli.trial import TrialProgress, _print, _world_text
-    from mimic.files import check_outputs
+    from mimic.files import check_outputs, spec_files
     from mimic.improve import improve
     from mimic.improve.objectives import make_objective
     from mimic.trials.executors import RAY_LOCAL
@@ -170,7 +180,7 @@ def _improve(
     if budget <= 0:
         raise MimicError(f"--budget must be > 0 evaluations, got {budget}")
     options.seed(seed)
-    check_outputs([out, save], force=force)
+    check_outputs([out, save], force=force, inputs=[*spec_files(target), checkpoint])
     options.finite(sigma, "--sigma", above=0)
     settings = {}
     if fall_penalty is not None:
@@ -219,6 +229,7 @@ def _improve(
             on_validation=lambda label, b: (_stop(bar), checks(label, b)),
             world=world,
             robot=robot,
+            keep_worse=keep_worse,
         )
     finally:
         _stop(bar)
@@ -247,6 +258,27 @@ def _improve(
 
         save_improve(run, save)
         console.print(f"wrote {save}")
+    verdict = _verdict(run)
+    if verdict:
+        console.print(verdict, highlight=False, soft_wrap=True)
+
+
+def _verdict(run) -> str:
+    """The last line: whether the improved candidate held up on held-out episodes."""
+    if run.start_score is None or run.improved_score is None:
+        return ""
+    scores = f"score {run.improved_score:.4g} against the starting point's {run.start_score:.4g}"
+    if not run.validated_worse:
+        return f"the improved candidate validated better: {scores} on held-out episodes"
+    if run.kept_start:
+        return (
+            f"the improved candidate validated WORSE ({scores}); kept the starting point: "
+            f"{run.out} holds it (--keep-worse writes the candidate instead)"
+        )
+    return (
+        f"the improved candidate validated WORSE ({scores}); wrote it anyway (--keep-worse) "
+        f"to {run.out}"
+    )
 
 
 def _bench_scaling(

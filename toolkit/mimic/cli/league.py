@@ -14,20 +14,28 @@ from mimic.errors import MimicError
 __all__ = ["record_server", "import_log"]
 
 
+def _plain(console_, text: str) -> None:
+    """Print a line that holds names from outside as plain text (never as Rich markup; the
+    names already went through ``printable``)."""
+    console_.print(text, markup=False, highlight=False, soft_wrap=True)
+
+
 def _report(result) -> None:
     """One line per recording; a recording that ended early exits non-zero."""
+    from mimic.league.blackbox import who
+
     what = (
-        f"{result.team} #{result.player} ({result.robot.upper()}): {result.samples} "
+        f"{who(result.team, result.player)} ({result.robot.upper()}): {result.samples} "
         f"samples, {result.duration_s:.2f} s -> {result.path}"
     )
     if result.frames_skipped:
-        what += f" ({result.frames_skipped} frames skipped)"
+        what += f" ({result.frames_skipped} frames skipped: malformed or not decodable)"
     if not result.interrupted:
         ended = "" if result.reason in ("done", "end of log") else f" ({result.reason})"
-        console.print(what + ended, highlight=False)
+        _plain(console, what + ended)
         return
     if result.reason.startswith("interrupted"):
-        err_console.print(f"interrupted: saved {what}", highlight=False)
+        _plain(err_console, f"interrupted: saved {what}")
         raise typer.Exit(130)
     fail(f"{result.reason}: saved {what} (the file is complete up to there)", 1)
 
@@ -44,13 +52,13 @@ def record_server(
     agent: str | None,
 ) -> None:
     """``mimic record --server HOST:MONITOR_PORT ...``."""
-    from mimic.league.blackbox import describe_players, list_players, record_player
+    from mimic.league.blackbox import describe_players, list_players, record_player, who
 
     if server is None:
         raise MimicError("--list needs --server HOST:MONITOR_PORT")
     if list_only:
         players = list_players(server)
-        console.print(f"on the field of {server}: {describe_players(players)}", highlight=False)
+        _plain(console, f"on the field of {server}: {describe_players(players)}")
         return
     if agent is not None:
         raise MimicError(
@@ -62,18 +70,19 @@ def record_server(
     if out is None:
         raise MimicError("give the output file with -o FILE.mcap")
     with Progress(
-        TextColumn("recording {task.fields[who]}"),
+        TextColumn("recording {task.fields[who]}", markup=False),
         TextColumn("{task.completed:.2f} s"),
         console=err_console,
         transient=True,
+        disable=not err_console.is_terminal,  # no bar, and no blank line, in a pipe
     ) as bar:
-        task = bar.add_task("record", total=None, who=f"{team} #{player}")
+        task = bar.add_task("record", total=None, who=who(team, player))
 
         def progress(t_s: float, total_s: float | None) -> None:
             bar.update(task, completed=t_s, total=total_s)
 
         def on_wait(message: str) -> None:
-            bar.console.print(message, highlight=False)
+            _plain(bar.console, message)
 
         result = record_player(
             server,
@@ -90,7 +99,13 @@ def record_server(
 
 
 def import_log(
-    log: Path, out: Path, team: str | None, player: int | None, every: bool, robot: str | None
+    log: Path,
+    out: Path,
+    team: str | None,
+    player: int | None,
+    every: bool,
+    robot: str | None,
+    force: bool = False,
 ) -> None:
     """``mimic import GAME.log --team NAME --player N -o out.mcap`` (or ``--all -o DIR``)."""
     from mimic.league.game_log import import_game_log, import_game_log_all
@@ -98,7 +113,7 @@ def import_log(
     if every:
         if team is not None or player is not None:
             raise MimicError("give --all or --team/--player, not both")
-        for result in import_game_log_all(log, out, robot=robot):
+        for result in import_game_log_all(log, out, robot=robot, force=force):
             _report(result)
         return
     if team is None or player is None:

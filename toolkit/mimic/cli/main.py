@@ -7,9 +7,11 @@ import importlib
 import typer
 
 from mimic import __version__
+from mimic.cli.common import OneLineUsageErrors
 
 app = typer.Typer(
     name="mimic",
+    cls=OneLineUsageErrors,
     help="Learn humanoid robot motions as neural networks and prove them in MuJoCo.",
     no_args_is_help=True,
     add_completion=False,

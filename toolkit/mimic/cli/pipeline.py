@@ -11,7 +11,7 @@ from rich import box
 from rich.table import Table
 
 from mimic.cli.common import FORCE, console, reports_errors
-from mimic.cli.trial import TrialProgress, _print
+from mimic.cli.trial import TrialProgress, _minutes_text, _print
 
 #: Short headers of the paper's tables (two lines each where they have a space), so the three
 #: tables fit in 80 columns with every name and number whole.
@@ -94,7 +94,7 @@ def demo(
         result = run_demo(
             out, minutes=minutes, seed=seed, workers=workers, say=_say, progress=progress
         )
-    _print(result, f"demo: kick trial, {minutes:g} simulated min per variant")
+    _print(result, f"demo: kick trial, {_minutes_text(result, minutes)}")
 
 
 @reports_errors

@@ -9,8 +9,10 @@ from typing import Annotated
 import typer
 from rich.progress import BarColumn, Progress, TextColumn
 from rich.table import Table
+from rich.text import Text
 
 from mimic.cli.common import FORCE, console, err_console, reports_errors, warn
+from mimic.league.untrusted import printable
 
 __all__ = ["register", "print_recording_summary"]
 
@@ -42,8 +44,8 @@ def print_recording_summary(summary: dict) -> None:
         ("state", "interrupted" if summary["interrupted"] else "complete"),
         ("recovery", summary["recovery"]),
     ]
-    for key, value in rows:
-        table.add_row(key, "-" if value is None else str(value))
+    for key, value in rows:  # values may come from outside (a team name in a game log)
+        table.add_row(key, Text("-" if value is None else printable(str(value))))
     for topic, t in summary["topics"].items():
         table.add_row(topic, f"{t['messages']} messages ({t['schema']})")
     console.print(table)
@@ -95,8 +97,10 @@ def register(app: typer.Typer) -> None:
             float | None,
             typer.Option(
                 "--duration",
+                "--seconds",
                 help="Seconds to record, > 0 (default: until the motion ends; "
-                "cyclic agents: 10 periods).",
+                "cyclic agents: 10 periods; --server: server time, until Ctrl-C, the player "
+                "leaves or the server stops).",
             ),
         ] = None,
         seed: Annotated[int, typer.Option(help="Simulation seed (0 .. 2**32-1).")] = 0,
@@ -139,14 +143,6 @@ def register(app: typer.Typer) -> None:
             int | None,
             typer.Option(help="--server: the player's number.", rich_help_panel="League"),
         ] = None,
-        seconds: Annotated[
-            float | None,
-            typer.Option(
-                help="--server: seconds of server time to record (default: until Ctrl-C, the "
-                "player leaves or the server stops).",
-                rich_help_panel="League",
-            ),
-        ] = None,
         list_players: Annotated[
             bool,
             typer.Option(
@@ -167,27 +163,35 @@ def register(app: typer.Typer) -> None:
         With --server: record a league player from the server's monitor stream instead."""
         from mimic import options
         from mimic.errors import MimicError
-        from mimic.files import check_output
+        from mimic.files import check_output, spec_files
         from mimic.recording.reader import describe_recording
         from mimic.recording.recorder import record as record_agent
 
         if server is not None or list_players:
-            from mimic.cli.league import record_server
+            from contextlib import nullcontext
 
-            options.finite(seconds, "--seconds", above=0)
+            from mimic.cli.league import record_server
+            from mimic.files import claim_output
+
+            options.finite(duration, "--duration", above=0)
+            options.finite(wait, "--wait", at_least=0)
+            claim = nullcontext()
             if out is not None and not list_players:
                 check_output(out, force=force)
-            return record_server(
-                server,
-                out,
-                team,
-                player,
-                seconds,
-                robot,
-                list_players,
-                wait,
-                name if model is None else str(model),
-            )
+                # Held from now: a second recorder of the same file is refused at once.
+                claim = claim_output(out)
+            with claim:
+                return record_server(
+                    server,
+                    out,
+                    team,
+                    player,
+                    duration,
+                    robot,
+                    list_players,
+                    wait,
+                    name if model is None else str(model),
+                )
         if out is None:
             raise MimicError("give the output file with -o FILE.mcap")
         if (name is None) == (model is None):
@@ -198,13 +202,14 @@ def register(app: typer.Typer) -> None:
         from mimic.agents.registry import make_agent
 
         agent = make_agent(str(model) if model is not None else name, robot=robot or "nao")
-        check_output(out, force=force)
+        check_output(out, force=force, inputs=spec_files(model, name))
         with Progress(
             TextColumn("recording"),
             BarColumn(),
             TextColumn("{task.completed:.2f} s sim"),
             console=err_console,
             transient=True,
+            disable=not err_console.is_terminal,  # no bar, and no blank line, in a pipe
         ) as bar:
             task = bar.add_task("record", total=None)
 
@@ -298,7 +303,7 @@ def register(app: typer.Typer) -> None:
         """Convert one of the study's joint tables, or players of a league game log, into
         recordings in our layout."""
         from mimic import options
-        from mimic.files import check_output
+        from mimic.files import check_output, input_file
         from mimic.league.game_log import is_game_log
         from mimic.recording.paper_import import import_paper_file
         from mimic.recording.reader import describe_recording
@@ -306,10 +311,11 @@ def register(app: typer.Typer) -> None:
         if is_game_log(paper_file) or team is not None or player is not None or all_players:
             from mimic.cli.league import import_log
 
+            input_file(paper_file, "game log", "write one with 'rcssservermj --logfile FILE'")
             if not all_players:
-                check_output(out, force=force)
-            return import_log(paper_file, out, team, player, all_players, robot)
+                check_output(out, force=force, inputs=[paper_file])
+            return import_log(paper_file, out, team, player, all_players, robot, force)
         options.finite(distance, "--distance", at_least=0)
-        check_output(out, force=force)
+        check_output(out, force=force, inputs=[paper_file])
         import_paper_file(paper_file, out, topic=topic, distance_m=distance, overwrite=force)
         print_recording_summary(describe_recording(out))

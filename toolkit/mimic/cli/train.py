@@ -50,6 +50,20 @@ def _metrics_table(models) -> Table:
     return table
 
 
+def _named(dataset, path: Path):
+    """A league player's recording knows who moved, not what the motion was (its motion is
+    ``TEAM_N``): its model is named after the model file instead (``seen_walk.mimic``:
+    ``seen_walk``); the player stays in the metadata (``team``, ``recorded_as``)."""
+    from dataclasses import replace
+
+    if dataset.metadata.get("agent") != "league player":
+        return dataset
+    return replace(
+        dataset,
+        metadata={**dataset.metadata, "motion": path.stem, "recorded_as": dataset.name},
+    )
+
+
 def register(app: typer.Typer) -> None:
     app.add_typer(bench_app, name="bench")
 
@@ -144,6 +158,10 @@ def register(app: typer.Typer) -> None:
         from mimic.learn.train import TrainConfig, train_models, training_dataset
 
         save = save_path(save, save_old)
+        if rerun:
+            from mimic.viz.display import require_viewer
+
+            require_viewer("--save FILE.rrd")
         try:
             config = TrainConfig(get_preset(preset), seed=seed, epochs=epochs)
         except ValueError as err:
@@ -216,7 +234,8 @@ def register(app: typer.Typer) -> None:
                 raise DatasetError(f"{warning} (--strict refuses such input)")
             warn(f"{warning}, or pass --strict to refuse such input")
         paths = [out / f"{p.stem}{SUFFIX}" for p in inputs] if several else [out]
-        check_outputs([*paths, save], force=force)
+        check_outputs([*paths, save], force=force, inputs=inputs)
+        datasets = [_named(d, path) for d, path in zip(datasets, paths)]
         curves = None
         if rerun or save is not None:
             from mimic.viz.training import TrainingCurves
@@ -232,6 +251,7 @@ def register(app: typer.Typer) -> None:
                 TimeElapsedColumn(),
                 console=err_console,
                 transient=True,
+                disable=not err_console.is_terminal,  # no bar, no blank line in a pipe
             ) as bar:
                 task = bar.add_task(
                     ", ".join(d.name for d in datasets),
@@ -283,7 +303,7 @@ def register(app: typer.Typer) -> None:
         from mimic.learn.model_file import load_model
 
         loaded = load_model(model)
-        check_output(onnx, force=force)
+        check_output(onnx, force=force, inputs=[model])
         path = export_onnx(loaded, onnx, overwrite=force)
         console.print(f"wrote {path} ({path.stat().st_size} bytes)", highlight=False)
 

@@ -60,6 +60,7 @@ PLAIN_PROGRESS_EVERY_S = 5.0
 def _specs(
     variants, compare, motion, model, balance, speed_rate, default, robot="nao", vx_m_s=None
 ):
+    """The variants as specs, each checked to drive ``robot`` (the trial's one robot)."""
     from mimic.agents.registry import agent_spec
 
     names = list(variants or []) + [n for n in (motion, model) if n]
@@ -74,9 +75,33 @@ def _specs(
         )
     # --balance wraps every learned motion; keyframe motions and agents stay as they are.
     specs = [replace(s, balance=True) if balance and s.kind == "model" else s for s in specs]
-    for spec in specs:  # every variant can run, before the first one does
-        spec.check()
+    for spec in specs:  # every variant can run on the trial's robot, before the first one does
+        if spec.robot != robot:  # a model file names its own robot
+            raise MimicError(
+                f"{spec.ref} was made for the {spec.robot.upper()}; this trial plays the "
+                f"{robot.upper()} (--robot {robot}): compare variants of one robot"
+            )
+        spec.check(robot)
     return specs
+
+
+def _trial_robot(robot: str | None, world: str, names: list[str]) -> str:
+    """The trial's robot: ``--robot``, else the one robot its model variants were made for,
+    else the world's default."""
+    from mimic.agents.registry import BALANCE_SUFFIX
+    from mimic.trials.worlds import default_robot
+
+    if robot is not None:
+        return robot
+    models = [n.removesuffix(BALANCE_SUFFIX) for n in names if n]
+    models = [n for n in models if n.endswith(".mimic") and Path(n).is_file()]
+    if models:
+        from mimic.learn.model_file import load_model
+
+        robots = {load_model(n).robot for n in models}
+        if len(robots) == 1:
+            return robots.pop()
+    return default_robot(world)
 
 
 class TrialProgress:
@@ -106,8 +131,18 @@ class TrialProgress:
     def __enter__(self) -> TrialProgress:
         return self
 
+    def _finish(self, label: str) -> None:
+        """Stop the variant's clock and bar where it ended (its budget may end short of the
+        bar's total: whole episodes only)."""
+        task = self._tasks.get(label)
+        if task is not None:
+            done = self._bar.tasks[task].completed
+            self._bar.update(task, total=done, completed=done)
+
     def __exit__(self, *exc) -> None:
         if self.live:
+            for label in self._tasks:
+                self._finish(label)
             self._bar.stop()
         elif exc[0] is None:
             for label, line in self._last.items():
@@ -123,6 +158,8 @@ class TrialProgress:
             if not self._bar.live.is_started:
                 self._bar.start()
             if label not in self._tasks:
+                for previous in self._tasks:  # variants run one after another
+                    self._finish(previous)
                 self._tasks[label] = self._bar.add_task(
                     label, total=self.minutes or self.runs, status=""
                 )
@@ -132,6 +169,8 @@ class TrialProgress:
             )
             return
         now = time.monotonic()
+        if not batch.episodes:  # a variant's start: nothing to say yet
+            return
         if now - self._printed_at >= PLAIN_PROGRESS_EVERY_S:
             console.print(f"{label}: {status}", highlight=False, soft_wrap=True)
             self._printed[label], self._printed_at = status, now
@@ -227,6 +266,17 @@ def _world_text(result) -> str:
     return world + (f", {reach}" if reach else "")
 
 
+def _minutes_text(result, minutes: float | None) -> str:
+    """The simulated minutes each variant ran (whole episodes, so not the budget):
+    ``1.26-1.9 simulated min per variant (2 asked)``."""
+    ran = [v for v in result.summary.get_column("simulated_min").to_list() if v is not None]
+    if not ran:
+        return f"{minutes:g} simulated min asked per variant"
+    low, high = min(ran), max(ran)
+    span = f"{low:.3g}" if f"{low:.3g}" == f"{high:.3g}" else f"{low:.3g}-{high:.3g}"
+    return f"{span} simulated min per variant ({minutes:g} asked)"
+
+
 def _print(result, title: str, success_m: float | None = None) -> None:
     shown = {c: h for c, h in _SHOWN[result.kind].items() if c in result.summary.columns}
     # Headers on two lines, no vertical rules, no edges: a whole kick table, confidence
@@ -272,15 +322,29 @@ def _dashboard(result, save: Path | None, rerun: bool, force: bool) -> None:
 
 
 def _check(
-    kind: str, specs, out: Path | None, save: Path | None, force: bool, **trial_options
+    kind: str,
+    specs,
+    out: Path | None,
+    save: Path | None,
+    force: bool,
+    rerun: bool = False,
+    **trial_options,
 ) -> None:
     """Before the first episode: options, every variant, and the outputs (they can be
     written, and do not exist unless --force)."""
-    from mimic.files import check_outputs
+    from mimic.files import check_outputs, spec_files
     from mimic.trials.api import check_trial, trial_files
 
     check_trial(kind, specs, **trial_options)
-    check_outputs([*trial_files(out), save], force=force)
+    check_outputs(
+        [*trial_files(out), save],
+        force=force,
+        inputs=spec_files(*(s.ref for s in specs)),
+    )
+    if rerun:
+        from mimic.viz.display import require_viewer
+
+        require_viewer("--save FILE.rrd")
 
 
 @trial_app.command("kick")
@@ -313,18 +377,26 @@ def kick(
     kick again until a goal; repeat."""
     from mimic.trials.api import kick_trial
     from mimic.trials.kick import KickTrialConfig
-    from mimic.trials.worlds import default_robot, world_kind
+    from mimic.trials.worlds import world_kind
 
     save = save_path(save, save_old)
     world = world_kind(world)
-    specs = _specs(
-        variants, compare, motion, model, balance, 1.0, "kick_right", robot or default_robot(world)
-    )
+    robot = _trial_robot(robot, world, [*(variants or []), motion, model])
+    specs = _specs(variants, compare, motion, model, balance, 1.0, "kick_right", robot)
     config = KickTrialConfig(world=world)
     if success_m is not None:
         config = replace(config, success_distance_m=success_m)
     _check(
-        "kick", specs, out, save, force, minutes=minutes, seed=seed, workers=workers, config=config
+        "kick",
+        specs,
+        out,
+        save,
+        force,
+        rerun,
+        minutes=minutes,
+        seed=seed,
+        workers=workers,
+        config=config,
     )
     with (
         open_executor(workers, ray, ray_address) as executor,
@@ -343,7 +415,7 @@ def kick(
         )
     _print(
         result,
-        f"kick trial, {minutes:g} simulated min per variant, seed {seed}; {_world_text(result)}",
+        f"kick trial, {_minutes_text(result, minutes)}, seed {seed}; {_world_text(result)}",
         config.success_distance_m,
     )
     _dashboard(result, save, rerun, force)
@@ -398,13 +470,13 @@ def walk(
     line, 15 m; the league: 10 m through the centre spot), repeated."""
     from mimic.trials.api import walk_trial
     from mimic.trials.walk import WalkTrialConfig
-    from mimic.trials.worlds import default_robot, world_kind
+    from mimic.trials.worlds import world_kind
 
     save = save_path(save, save_old)
     if minutes is not None and runs is not None:
         raise MimicError("give --minutes or --runs, not both")
     world = world_kind(world)
-    robot = robot or default_robot(world)
+    robot = _trial_robot(robot, world, [*(variants or []), motion, model])
     specs = _specs(
         variants,
         compare,
@@ -425,6 +497,7 @@ def walk(
         out,
         save,
         force,
+        rerun,
         minutes=minutes,
         runs=runs,
         seed=seed,
@@ -450,7 +523,8 @@ def walk(
     start_x, finish_x = config.course_m()
     _print(
         result,
-        f"walk trial ({finish_x - start_x:g} m from a standing start), seed {seed}; "
+        f"walk trial ({finish_x - start_x:g} m from a standing start), "
+        f"{_minutes_text(result, minutes) + ', ' if minutes else ''}seed {seed}; "
         f"{_world_text(result)}",
     )
     _dashboard(result, save, rerun, force)

@@ -22,7 +22,13 @@ def view(
     from mimic.viz.recording import view_recording
 
     if save is not None:
-        check_output(save, force=force)
+        check_output(save, force=force, inputs=[recording, model])
+    else:
+        from mimic.files import input_file
+        from mimic.viz.display import require_viewer
+
+        input_file(recording, "recording")  # a missing file says so first
+        require_viewer(f"--save {recording.with_suffix('.rrd').name}")
     logged = view_recording(recording, model=model, save=save, overwrite=force)
     if save:
         console.print(

@@ -7,6 +7,8 @@ from collections.abc import Callable
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 
+import numpy as np
+
 from mimic.errors import MimicError
 from mimic.improve.objectives import make_objective
 from mimic.improve.search import SearchConfig, SearchResult, default_population, search
@@ -38,6 +40,21 @@ class ImproveRun:
     # Wall times [s].
     search_wall_s: float = 0.0
     validation_wall_s: float = 0.0
+    # The objective's score on the held-out episodes: the starting point's and the improved
+    # candidate's (None without validation); ``kept_start``: the candidate validated worse,
+    # so ``out`` holds the starting point (unless ``keep_worse``).
+    start_score: float | None = None
+    improved_score: float | None = None
+    kept_start: bool = False
+
+    @property
+    def validated_worse(self) -> bool:
+        """The improved candidate scored below the starting point on held-out episodes."""
+        return (
+            self.start_score is not None
+            and self.improved_score is not None
+            and self.improved_score < self.start_score
+        )
 
 
 def default_checkpoint(out: Path) -> Path:
@@ -68,6 +85,7 @@ def improve(
     before_search: Callable | None = None,
     world: str | None = None,
     robot: str | None = None,
+    keep_worse: bool = False,
 ) -> ImproveRun:
     """Improve ``target`` (an agent spec: motion, ``.mimic`` model, engine or ``.json``
     parameter file) for ``objective`` (``kick``/``walk``, or an objective from
@@ -80,7 +98,9 @@ def improve(
     ``local`` or an address). ``checkpoint`` (default ``OUT.ckpt.json``) resumes a stopped run.
     ``pick``: write the best candidate scored (``best``) or the optimiser's final mean
     (``mean``: never scored in the search, steadier when scores are noisy); validation tells
-    which held up.
+    which held up. A candidate that validates worse than the starting point (the objective's
+    score on the held-out episodes) is not kept: ``out`` then holds the starting point
+    (``run.kept_start``), unless ``keep_worse``.
     ``before_search(target, objective, population)`` is called once the inputs are checked.
     ``world`` (``mujoco`` or ``league``; default: the objective's trial settings, ours) is
     where every episode plays, search and validation alike; ``robot`` (default: the NAO in
@@ -149,6 +169,7 @@ def improve(
                 on_validation=on_validation,
                 before_search=before_search,
                 robot=robot,
+                keep_worse=keep_worse,
             )
     if before_search:
         before_search(tgt, obj, pop)
@@ -191,4 +212,25 @@ def improve(
         )
         run.validation_wall_s = time.perf_counter() - start
         run.files = write_summary(run.validation.summary, out.with_name(out.stem + "_validation"))
+        scores = dict(
+            zip(
+                run.validation.summary["variant"].to_list(),
+                run.validation.summary["score"].to_list(),
+            )
+        )
+        run.start_score = scores.get(tgt.baseline().label)
+        run.improved_score = scores.get(improved.label)
+        if run.validated_worse and not keep_worse:
+            start_z = np.zeros(tgt.space.dim)
+            tgt.write(
+                start_z,
+                out,
+                {
+                    **provenance,
+                    "kept_start": True,
+                    "parameters": tgt.space.describe(start_z),
+                    "validation_scores": {"start": run.start_score, "improved": run.improved_score},
+                },
+            )
+            run.z, run.kept_start = start_z, True
     return run

@@ -76,7 +76,9 @@ def validate(
         )
         if batch.traces:
             traces[spec.label] = next(iter(batch.traces.values()))
-        rows.append(objective.summarise(spec.label, batch))
+        # The objective's score on the held-out episodes: what says whether the improved
+        # candidate beat the starting point.
+        rows.append({**objective.summarise(spec.label, batch), "score": objective.score(batch)})
         if batch.rows:
             frames.append(
                 pl.DataFrame(batch.rows).with_columns(pl.lit(spec.label).alias("variant"))

@@ -30,6 +30,7 @@ import numpy as np
 
 from mimic.league.errors import LeagueError
 from mimic.league.rsmp import SceneNode, SceneState, slt_matrix
+from mimic.league.untrusted import printable
 from mimic.robot.model import RobotDescription
 from mimic.world.league_field import league_air
 
@@ -168,7 +169,8 @@ def check_model(robot: str, model: str, who: str) -> None:
     """Refuse, in one line, decoding a ``model`` robot (as the scene graph names it) as the
     registry's ``robot``."""
     if model and robot_for_model(model) != robot:
+        shown = printable(model)
         raise LeagueError(
-            f"{who} is a {model} robot, not a {robot.upper()}; leave out "
-            f"--robot (or pass --robot {robot_for_model(model)})"
+            f"{who} is a {shown} robot, not a {robot.upper()}; leave out "
+            f"--robot (or pass --robot {robot_for_model(shown)})"
         )

@@ -7,6 +7,7 @@ from mimic.errors import MimicError
 __all__ = [
     "LeagueError",
     "LeagueConnectionError",
+    "LeagueProtocolError",
     "ServerStartError",
     "PlayerNotFoundError",
     "GameLogError",
@@ -19,6 +20,10 @@ class LeagueError(MimicError):
 
 class LeagueConnectionError(LeagueError):
     """Nothing listens on a port, or the server went away."""
+
+
+class LeagueProtocolError(LeagueConnectionError):
+    """A peer whose bytes are not the league's stream (a message too long to be one)."""
 
 
 class ServerStartError(LeagueError):

@@ -4,6 +4,10 @@
 monitor, ``mimic.league.blackbox``); ``import_game_log_all`` writes one recording per player. A
 log cut off or still being written yields every complete frame (a partial last line is
 skipped).
+
+A log is untrusted input: a malformed line is skipped and counted, a line longer than
+``MAX_MESSAGE_BYTES`` too, and a team name becomes a file name only through ``safe_stem`` (never
+a path outside the output folder).
 """
 
 from __future__ import annotations
@@ -11,13 +15,22 @@ from __future__ import annotations
 from collections.abc import Iterator
 from pathlib import Path
 
-from mimic.league.blackbox import BlackBoxResult, describe_players, robot_of
+from mimic.files import check_outputs
+from mimic.league.blackbox import BlackBoxResult, describe_players, robot_of, who
 from mimic.league.decode import PlayerDecoder
 from mimic.league.errors import GameLogError, LeagueError, PlayerNotFoundError
 from mimic.league.player_writer import PlayerWriter
 from mimic.league.rsmp import PlayerNode, SceneState, is_rsmp
+from mimic.league.untrusted import MAX_MESSAGE_BYTES, safe_stem
 
-__all__ = ["is_game_log", "read_frames", "import_game_log", "import_game_log_all", "log_players"]
+__all__ = [
+    "is_game_log",
+    "read_frames",
+    "import_game_log",
+    "import_game_log_all",
+    "log_players",
+    "player_file_names",
+]
 
 _HEAD_BYTES = 64
 
@@ -47,8 +60,12 @@ def read_frames(path: str | Path) -> Iterator[bytes]:
             "'rcssservermj --logfile FILE'"
         )
     with open(path, "rb") as f:
-        for line in f:
-            if line.strip():
+        while line := f.readline(MAX_MESSAGE_BYTES + 1):
+            if len(line) > MAX_MESSAGE_BYTES and not line.endswith(b"\n"):
+                while (rest := f.readline(1 << 20)) and not rest.endswith(b"\n"):
+                    pass  # skip the rest of an overlong line
+                yield b""  # not a frame: counted as skipped
+            elif line.strip():
                 yield line
 
 
@@ -80,37 +97,60 @@ def import_game_log(
         GameLogError: not a game log. PlayerNotFoundError: the player is not in it (the
             message names those who are); no file is written then.
     """
-    results = _import(log_path, {(team, player): Path(out_path)}, robot)
+    results = _import(log_path, {(team, player): Path(out_path)}, robot, every=False)
     if not results:
         raise PlayerNotFoundError(
-            f"{team} #{player} is not in {log_path}; players in it: "
+            f"{who(team, player)} is not in {log_path}; players in it: "
             f"{describe_players(log_players(log_path))}"
         )
     return results[0]
 
 
+def player_file_names(players: tuple[PlayerNode, ...]) -> dict[tuple[str, int], str]:
+    """``TEAM_N.mcap`` for each player, the team name made safe (``safe_stem``); two names
+    that become the same get ``-2``, ``-3``, ... so no file is written twice."""
+    names: dict[tuple[str, int], str] = {}
+    taken: set[str] = set()
+    for p in players:
+        base = f"{safe_stem(p.team)}_{p.player}"
+        name, k = f"{base}.mcap", 1
+        while name.lower() in taken:  # case-insensitive file systems too
+            k += 1
+            name = f"{base}-{k}.mcap"
+        taken.add(name.lower())
+        names[(p.team, p.player)] = name
+    return names
+
+
 def import_game_log_all(
-    log_path: str | Path, out_dir: str | Path, *, robot: str | None = None
+    log_path: str | Path, out_dir: str | Path, *, robot: str | None = None, force: bool = False
 ) -> list[BlackBoxResult]:
-    """One recording per player of a game log: ``OUT_DIR/TEAM_N.mcap``.
+    """One recording per player of a game log: ``OUT_DIR/TEAM_N.mcap`` (``player_file_names``:
+    always inside ``out_dir``). Every output is checked before any is written.
 
     Raises:
         GameLogError: not a game log, or no players in it.
+        OutputError: an output exists (and not ``force``) or cannot be written.
     """
     out_dir = Path(out_dir)
     if out_dir.exists() and not out_dir.is_dir():
         raise GameLogError(f"--all writes one file per player into a folder; {out_dir} is a file")
-    results = _import(log_path, out_dir, robot)
-    if not results:
+    players = log_players(log_path)
+    if not players:
         raise GameLogError(f"{log_path} holds no players")
+    outputs = {key: out_dir / name for key, name in player_file_names(players).items()}
+    check_outputs(outputs.values(), force=force, inputs=[log_path])
+    results = _import(log_path, outputs, robot, every=True)
+    if not results:
+        raise GameLogError(f"{log_path} holds no players mimic can decode")
     return results
 
 
 def _import(
-    log_path, outputs: dict[tuple[str, int], Path] | Path, robot: str | None
+    log_path, outputs: dict[tuple[str, int], Path], robot: str | None, *, every: bool
 ) -> list[BlackBoxResult]:
-    """One pass over the log; ``outputs``: the players wanted and their files, or a folder
-    for every player."""
+    """One pass over the log; ``outputs``: the players wanted and their files (``every``:
+    all the log's players, those of robots mimic does not know left out)."""
     decoders: dict[tuple[str, int], PlayerDecoder] = {}
     writers: dict[tuple[str, int], PlayerWriter] = {}
     skipped: dict[tuple[str, int], int] = {}
@@ -125,12 +165,12 @@ def _import(
             for node in state.players:
                 key = (node.team, node.player)
                 if key not in decoders:
-                    if _output(outputs, key) is None or key in ignored:
+                    if key not in outputs or key in ignored:
                         continue
                     try:
-                        description = robot_of(node, robot, f"{node.team} #{node.player}")
+                        description = robot_of(node, robot, who(*key))
                     except LeagueError:
-                        if isinstance(outputs, dict):
+                        if not every:
                             raise
                         ignored.add(key)  # --all: a robot mimic does not know is left out
                         continue
@@ -142,7 +182,7 @@ def _import(
                     continue
                 if key not in writers:
                     writers[key] = PlayerWriter(
-                        _output(outputs, key),
+                        outputs[key],
                         decoders[key].robot,
                         *key,
                         "game_log",
@@ -151,8 +191,9 @@ def _import(
                     )
                 writers[key].write(sample, state.ball_pos_m())
     except BaseException:
+        # A failed import leaves every target as it was: the log can be imported again.
         for writer in writers.values():
-            writer.finish(interrupted=True, reason="import failed")
+            writer.abandon()
         raise
     results = []
     for (team, number), writer in writers.items():
@@ -171,9 +212,3 @@ def _import(
             )
         )
     return results
-
-
-def _output(outputs, key: tuple[str, int]) -> Path | None:
-    if isinstance(outputs, Path):
-        return outputs / f"{key[0]}_{key[1]}.mcap"
-    return outputs.get(key)

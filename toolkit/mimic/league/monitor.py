@@ -8,6 +8,7 @@ commands: place a robot (its joints then start at zero) or the ball, give a kick
 
 from __future__ import annotations
 
+import time
 from collections.abc import Iterator
 
 import numpy as np
@@ -80,9 +81,12 @@ class MonitorClient:
             yield self.state
 
     def wait_until(self, time_s: float, timeout_s: float = 10.0) -> None:
-        """Read frames until one at or after server time ``time_s`` [s] (or the timeout)."""
+        """Read frames until one at or after server time ``time_s`` [s], for at most
+        ``timeout_s`` [s] in all."""
+        deadline = time.monotonic() + timeout_s
         while not (self.state.time_s >= time_s - 1e-6):
-            if not self.read(timeout_s):
+            left = deadline - time.monotonic()
+            if left <= 0 or not self.read(left):
                 return
 
     # --- commands ---------------------------------------------------------------------------

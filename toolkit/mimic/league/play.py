@@ -7,10 +7,13 @@ its own (no address given) it first puts the robot on the field as ``mimic recor
 else's server it plays from wherever the robot is, as a team process does.
 
 With an output file it records what the player knew: ``/joint_references`` (our agents),
-``/joint_states`` (the angles it perceived), ``/ended``, the robot's URDF and metadata (world
-``league``). Ctrl-C or a server that stops end the run with the file finished. A kick on a
-server of its own gets a ball where the kick wants it, and the result says how far it went
-once it rests (the robot holding its last pose meanwhile, at most ``BALL_ROLL_OUT_S``).
+``/joint_states`` (the angles it perceived), ``/ended``, ``/tf`` (the torso under ``world``,
+as the server reports it, and the ball when the monitor shows it, as ``mimic record`` writes
+them), the robot's URDF and metadata (world ``league``). Ctrl-C or a server that stops end the
+run with the file finished. A kick on a server of its own gets a ball where the kick wants it,
+and the result says how far it went once it rests (the robot holding its last pose meanwhile,
+at most ``BALL_ROLL_OUT_S``). The result also says what the robot did while the agent played:
+how far its torso went, how fast, and how often it fell.
 """
 
 from __future__ import annotations
@@ -56,6 +59,13 @@ class PlayResult:
     # How far the ball went [m]: a kick on a hosted server, which places the ball where the
     # kick wants it; None otherwise.
     ball_moved_m: float | None = None
+    # How far the torso went on the ground while the agent played [m] (start to end,
+    # straight), and its mean speed [m/s]; None when no cycle ran.
+    distance_m: float | None = None
+    speed_m_s: float | None = None
+    # Falls while the agent played (upright -> fallen; a robot that starts lying has not
+    # fallen).
+    falls: int = 0
 
     @property
     def interrupted(self) -> bool:
@@ -63,10 +73,12 @@ class PlayResult:
 
 
 class PlayRecorder(Observer):
-    """Writes what the player perceived and commanded every cycle."""
+    """Writes what the player perceived and commanded every cycle, and where its torso (and
+    the ball, when the monitor shows it) was, on ``/tf``."""
 
-    def __init__(self, writer: RecordingWriter) -> None:
+    def __init__(self, writer: RecordingWriter, root_link: str = "torso") -> None:
         self.writer = writer
+        self.root_link = root_link
         self.samples, self.t_last_s = 0, 0.0
         self._t0_cycles: int | None = None
 
@@ -78,7 +90,50 @@ class PlayRecorder(Observer):
         if agent.reference_rad is not None:
             self.writer.write_joints(t_ns, agent.reference_rad, topic=L.JOINT_REFERENCES)
         self.writer.write_ended(t_ns, bool(agent.done))
+        pos = [np.asarray(obs.torso_pos_m, float)]
+        quat = [np.asarray(obs.torso_quat_wxyz, float)]
+        children = [self.root_link]
+        ball = np.asarray(obs.ball_pos_m, float)
+        if ball.shape == (3,) and np.all(np.isfinite(ball)):
+            pos.append(ball)
+            quat.append(np.array([1.0, 0.0, 0.0, 0.0]))
+            children.append(L.BALL_FRAME)
+        self.writer.write_tf(
+            t_ns, [L.WORLD_FRAME] * len(children), children, np.array(pos), np.array(quat)
+        )
         self.samples, self.t_last_s = self.samples + 1, t_ns / L.NS_PER_S
+
+
+class PlayTrack(Observer):
+    """Where the torso started and ended while the agent played, and the falls."""
+
+    def __init__(self) -> None:
+        self.start_xy_m: np.ndarray | None = None
+        self.end_xy_m: np.ndarray | None = None
+        self.start_s = self.end_s = 0.0
+        self.falls = self.cycles = 0
+        self._was_fallen = False
+
+    def start(self, world, agent) -> None:
+        self.start_xy_m = self.end_xy_m = np.asarray(world.torso_pos_m(), float)[:2].copy()
+        self.start_s = self.end_s = world.time_s
+        self._was_fallen = world.fallen()  # a get-up starts lying: not a fall
+
+    def after_step(self, world) -> None:
+        self.cycles += 1
+        self.end_xy_m = np.asarray(world.torso_pos_m(), float)[:2].copy()
+        self.end_s = world.time_s
+        fallen = world.fallen()
+        if fallen and not self._was_fallen:
+            self.falls += 1
+        self._was_fallen = fallen
+
+    def distance_speed(self) -> tuple[float | None, float | None]:
+        """(distance [m], mean speed [m/s]) from start to end; (None, None) if nothing ran."""
+        if self.start_xy_m is None or not self.end_s > self.start_s:
+            return None, None
+        distance = float(np.hypot(*(self.end_xy_m - self.start_xy_m)))
+        return distance, distance / (self.end_s - self.start_s)
 
 
 def play(
@@ -155,9 +210,10 @@ def play(
                 out_path, _info(agent, world, agent_address), urdf=world.robot.urdf()
             )
         )
-        recorder = None if writer is None else PlayRecorder(writer)
+        recorder = None if writer is None else PlayRecorder(writer, world.robot.root_link)
         planned_s = seconds
-        watchers: list[Observer] = [] if recorder is None else [recorder]
+        track = PlayTrack()
+        watchers: list[Observer] = [track] if recorder is None else [track, recorder]
         if progress is not None:
             watchers.append(_Progress(progress, planned_s))
         end, cycles = "error", 0
@@ -174,6 +230,15 @@ def play(
             cycles = outcome.cycles
         except LeagueConnectionError:
             end = "server stopped"  # keep what was recorded
+            cycles = track.cycles  # the cycles that ran before it stopped
+        except KeyboardInterrupt:  # SIGTERM (Ctrl-C is the flag): kept, marked interrupted
+            end = "interrupted"
+            raise
+        except BaseException:  # a failed run leaves the target as it was
+            if writer is not None:
+                writer.abandon()
+                writer = None
+            raise
         finally:
             if writer is not None:
                 writer.finish(
@@ -194,8 +259,16 @@ def play(
                     stop=lambda w: sigint.raised or w.ball_speed_m_s() < BALL_AT_REST_M_S,
                 )
             moved = float(np.hypot(*(world.ball_pos_m()[:2] - ball_start)))
+        distance, speed = track.distance_speed()
         return PlayResult(
-            end, cycles, duration, None if out_path is None else Path(out_path), moved
+            end,
+            cycles,
+            duration,
+            None if out_path is None else Path(out_path),
+            moved,
+            distance,
+            speed,
+            track.falls,
         )
 
 

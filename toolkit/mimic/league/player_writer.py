@@ -105,6 +105,10 @@ class PlayerWriter:
         """Finish the file; ``reason`` (why it ended) goes into the ``mimic.end`` record."""
         self.writer.finish(interrupted=interrupted, samples=self.samples, reason=reason)
 
+    def abandon(self) -> None:
+        """Remove the unfinished file: an existing file of that name stays as it was."""
+        self.writer.abandon()
+
     def __enter__(self) -> PlayerWriter:
         return self
 

@@ -14,7 +14,8 @@ import socket
 import struct
 import time
 
-from mimic.league.errors import LeagueConnectionError
+from mimic.league.errors import LeagueConnectionError, LeagueProtocolError
+from mimic.league.untrusted import MAX_MESSAGE_BYTES
 
 __all__ = ["Connection", "connect", "parse_sexp", "parse_address", "Sexp", "LENGTH_PREFIX_BYTES"]
 
@@ -85,33 +86,49 @@ class Connection:
     def receive(self, timeout_s: float | None = None) -> bytes | None:
         """The next message; None if none is complete within ``timeout_s`` [s] (None: wait).
 
+        The timeout bounds the whole call, however the bytes trickle in.
+
         Raises:
             LeagueConnectionError: the server closed the connection.
+            LeagueProtocolError: a message longer than ``MAX_MESSAGE_BYTES`` (not the
+                league's stream).
         """
+        deadline = None if timeout_s is None else time.monotonic() + max(0.0, timeout_s)
         while True:
             message = self._take()
             if message is not None:
                 return message
-            if timeout_s is not None:
-                ready, _, _ = select.select([self._sock], [], [], timeout_s)
-                if not ready:
-                    return None
+            if deadline is None:
+                self._fill()
+                continue
+            left = deadline - time.monotonic()
+            ready, _, _ = select.select([self._sock], [], [], max(0.0, left))
+            if not ready:
+                return None
             self._fill()
+            if left <= 0:
+                return self._take()
 
-    def receive_available(self) -> list[bytes]:
-        """Every message that has arrived so far, without waiting."""
+    def receive_available(self, max_messages: int = 10_000) -> list[bytes]:
+        """Every message that has arrived so far (at most ``max_messages``), without waiting."""
         out = []
-        while True:
+        while len(out) < max_messages:
             message = self.receive(timeout_s=0.0)
             if message is None:
-                return out
+                break
             out.append(message)
+        return out
 
     def _take(self) -> bytes | None:
         buf = self._buffer
         if len(buf) < LENGTH_PREFIX_BYTES:
             return None
         (size,) = _LENGTH.unpack_from(buf)
+        if size > MAX_MESSAGE_BYTES:
+            raise LeagueProtocolError(
+                f"{self.where} announced a message of {size} bytes (at most "
+                f"{MAX_MESSAGE_BYTES} accepted): not an RCSSServerMJ stream; check the port"
+            )
         end = LENGTH_PREFIX_BYTES + size
         if len(buf) < end:
             return None
@@ -135,12 +152,17 @@ class Connection:
         return f"{self.address[0]}:{self.address[1]}"
 
     def close(self, linger_s: float = 1.0) -> None:
-        """Say goodbye and wait (up to ``linger_s``) for the server to close its end.
-
-        rcsssmj 0.2.1 stops its whole simulation if a send meets a socket its reader thread
-        has just closed, or a reset: so no reset (unread data closed abruptly resets a TCP
-        connection) and no hurry. Half-close, keep reading until the server's end is closed,
+        """Leave: half-close, read until the server closes its end (at most ``linger_s``),
         then close.
+
+        rcsssmj 0.2.1 ends its whole simulation when a send to a peer fails with anything but
+        ``BrokenPipeError``. Closing with unread data would reset the connection
+        (``ConnectionResetError`` in the server's next send), so the half-close goes first and
+        every byte is read until the server has closed its end. One failure no peer can rule
+        out remains on the server's side: its reader thread closes the socket while its
+        simulation thread is about to send (``Bad file descriptor``); whether that happens
+        depends on how the server's threads are scheduled, not on the peer. Servers mimic
+        hosts are patched against it (``mimic.league.hosted_server``).
         """
         try:
             self._sock.shutdown(socket.SHUT_WR)
@@ -169,9 +191,15 @@ def connect(host: str, port: int, what: str, timeout_s: float = 5.0) -> Connecti
     try:
         sock = socket.create_connection((host, port), timeout=timeout_s)
     except ConnectionRefusedError:
+        # Only a command that plays (``mimic play``) can host a server of its own; a recorder
+        # watches someone else's.
+        todo = (
+            "start a server (rcssservermj) first, or give its monitor port (--mport)"
+            if "monitor" in what
+            else "start a server (rcssservermj) or leave out --server to let mimic host one"
+        )
         raise LeagueConnectionError(
-            f"nothing listens on {host}:{port} (the {what}); start a server "
-            "(rcssservermj) or leave out --server to let mimic host one"
+            f"nothing listens on {host}:{port} (the {what}); {todo}"
         ) from None
     except OSError as err:
         raise LeagueConnectionError(

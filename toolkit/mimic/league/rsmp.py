@@ -10,6 +10,11 @@ than 0.005 since it was last sent. ``SceneState`` keeps the scene as of the last
 frame replaces it, a diff frame updates it in place, node by node.
 
 The same frames are the lines of a game log (``rcssservermj --logfile``).
+
+Frames are untrusted input: ``SceneState.apply`` never raises for what a frame holds. A frame
+that does not parse, or holds a bad number (an SLT that is not 16 finite numbers, a time or a
+shirt number that is not one) or a list where a name belongs, is skipped whole and counted
+(``skipped``); the scene stays as it was.
 """
 
 from __future__ import annotations
@@ -19,6 +24,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from mimic.league.protocol import parse_sexp
+from mimic.league.untrusted import text_of
 
 __all__ = ["SceneNode", "SceneState", "PlayerNode", "is_rsmp", "RSMP_PREFIX", "slt_matrix"]
 
@@ -29,6 +35,36 @@ RSMP_PREFIX = b"((RSMP"
 def is_rsmp(head: bytes) -> bool:
     """Whether a message or file starting with ``head`` is RSMP (leading blanks ignored)."""
     return head.lstrip().startswith(RSMP_PREFIX)
+
+
+#: The latest server time a frame may carry [s] (a year; beyond it the stamp is garbage).
+_MAX_TIME_S = 3.2e7
+#: The highest shirt number a frame may carry.
+_MAX_PLAYER = 999
+#: Errors a malformed frame raises while read; it is then skipped.
+_BAD_FRAME = (
+    ValueError,
+    TypeError,
+    AttributeError,
+    IndexError,
+    KeyError,
+    OverflowError,
+    RecursionError,  # nodes nested deeper than Python's stack
+)
+
+
+def _slt(item: list) -> np.ndarray:
+    """The 16 numbers of an ``(SLT ...)`` item; ValueError unless exactly 16 finite ones."""
+    if len(item) != 17 or not all(isinstance(v, bytes) for v in item[1:]):
+        raise ValueError("an SLT is 16 numbers")
+    slt = np.array([float(v) for v in item[1:]])
+    if not np.isfinite(slt).all():
+        raise ValueError("an SLT number is not finite")
+    return slt
+
+
+def _kind(node: list) -> str:
+    return text_of(node[1]) if len(node) > 1 and isinstance(node[1], bytes) else ""
 
 
 def slt_matrix(slt: np.ndarray) -> np.ndarray:
@@ -56,7 +92,9 @@ class SceneNode:
 
     @classmethod
     def from_sexp(cls, node: list) -> SceneNode:
-        kind = node[1].decode() if len(node) > 1 and isinstance(node[1], bytes) else ""
+        """A node and everything below it. Raises ValueError (or another of a malformed
+        frame's errors) for a bad SLT or a list where a name belongs."""
+        kind = _kind(node)
         slt, desc, children = None, [], []
         for item in node[2 if kind else 1 :]:
             if not isinstance(item, list) or not item:
@@ -64,31 +102,41 @@ class SceneNode:
             if item[0] == b"nd":
                 children.append(cls.from_sexp(item))
             elif item[0] == b"SLT":
-                slt = np.array([float(v) for v in item[1:17]])
+                slt = _slt(item)
             else:
                 desc.append(item)
         return cls(kind, slt, desc, children)
 
     def update(self, diff: list) -> bool:
-        """Apply a diff node (same shape as this node); False if the shapes differ."""
-        kind = diff[1].decode() if len(diff) > 1 and isinstance(diff[1], bytes) else ""
+        """Apply a diff node (same shape as this node); False if the shapes differ (nothing
+        is changed then). Raises ValueError for a bad SLT (nothing is changed either)."""
+        updates: list[tuple[SceneNode, np.ndarray]] = []
+        if not self._diff(diff, updates):
+            return False
+        for node, slt in updates:
+            node.slt = slt
+        return True
+
+    def _diff(self, diff: list, updates: list[tuple[SceneNode, np.ndarray]]) -> bool:
+        """The transforms a diff node sets, into ``updates``; False if the shapes differ."""
+        kind = _kind(diff)
         k = 0
         for item in diff[2 if kind else 1 :]:
             if not isinstance(item, list) or not item:
                 continue
             if item[0] == b"nd":
-                if k >= len(self.children) or not self.children[k].update(item):
+                if k >= len(self.children) or not self.children[k]._diff(item, updates):
                     return False
                 k += 1
             elif item[0] == b"SLT":
-                self.slt = np.array([float(v) for v in item[1:17]])
+                updates.append((self, _slt(item)))
         return k == len(self.children)
 
     def find_load(self) -> str | None:
         """The first ``(load PATH)`` of a shape below this node (a full frame's), or None."""
         for item in self.desc:
-            if item and item[0] == b"load" and len(item) > 1:
-                return item[1].decode()
+            if item and item[0] == b"load" and len(item) > 1 and isinstance(item[1], bytes):
+                return text_of(item[1])
         for child in self.children:
             found = child.find_load()
             if found is not None:
@@ -130,7 +178,17 @@ class SceneState:
     game: dict[str, str] = field(default_factory=dict)
 
     def apply(self, message: bytes) -> bool:
-        """Apply one frame; True if the scene is now valid (a full frame seen, diffs fit)."""
+        """Apply one frame; True if the scene is now valid (a full frame seen, diffs fit).
+
+        Never raises for what the frame holds: a malformed frame is skipped (``skipped``)
+        and leaves the scene as it was."""
+        try:
+            return self._apply(message)
+        except _BAD_FRAME:
+            self.skipped += 1
+            return False
+
+    def _apply(self, message: bytes) -> bool:
         try:
             top = parse_sexp(message)
         except ValueError:
@@ -144,21 +202,31 @@ class SceneState:
         ):
             self.skipped += 1
             return False
-        ok = True
+        # Read every section first; change the scene only once the whole frame has been read.
+        time_s, graph, game = None, None, None
         for section in top[0][1:]:
-            if not section or not isinstance(section[0], list):
+            if not isinstance(section, list) or not section or not isinstance(section[0], list):
                 continue
-            name = section[0][0]
+            name = section[0][0] if section[0] else b""
             if name == b"gt" and len(section) > 1:
-                self.time_s = float(section[1])
+                time_s = float(section[1])
+                if not 0.0 <= time_s < _MAX_TIME_S:
+                    raise ValueError(f"server time {time_s!r} out of range")
             elif name == b"sg" and len(section) > 2:
-                ok = self._apply_graph(section[1], section[2])
+                graph = (section[1], section[2])
             elif name == b"gs":
-                self.game = {
-                    item[0].decode(): b" ".join(item[1:]).decode()
+                game = {
+                    text_of(item[0]): " ".join(text_of(v) for v in item[1:])
                     for item in section[1:]
                     if isinstance(item, list) and item
                 }
+        ok = True
+        if graph is not None:
+            ok = self._apply_graph(*graph)
+        if time_s is not None:
+            self.time_s = time_s
+        if game is not None:
+            self.game = game
         if ok:
             self.frames += 1
         else:
@@ -166,9 +234,12 @@ class SceneState:
         return ok
 
     def _apply_graph(self, mode: bytes, node: list) -> bool:
+        if not isinstance(node, list):
+            raise ValueError("a scene graph is a node")
         if mode == b"full":
-            self.root = SceneNode.from_sexp(node)
-            self._index()
+            root = SceneNode.from_sexp(node)
+            players, ball = _index(root)
+            self.root, self.players, self.ball_path = root, players, ball
             return True
         if self.root is None:
             return False
@@ -177,21 +248,6 @@ class SceneState:
             self.players = ()
             return False
         return True
-
-    def _index(self) -> None:
-        players, ball = [], None
-        for path, node in _walk(self.root, ()):
-            if node.kind != "DSC":
-                continue
-            for item in node.desc:
-                if item and item[0] == b"agent" and len(item) >= 3 and node.children:
-                    load = node.children[0].find_load() or ""
-                    model = load.split("/")[1] if load.startswith("models/") else ""
-                    players.append(PlayerNode(item[1].decode(), int(item[2]), model, path))
-                elif item == [b"ball"]:
-                    ball = path
-        self.players = tuple(sorted(players, key=lambda p: (p.team, p.player)))
-        self.ball_path = ball
 
     @property
     def valid(self) -> bool:
@@ -212,8 +268,36 @@ class SceneState:
         """(3,) ball centre in the field frame [m], or None without a ball."""
         if self.ball_path is None or self.root is None:
             return None
-        body = self.node(self.ball_path).children[0]
-        return None if body.slt is None else body.slt[12:15].copy()
+        ball = self.node(self.ball_path)
+        if not ball.children or ball.children[0].slt is None:
+            return None
+        return ball.children[0].slt[12:15].copy()
+
+
+def _index(root: SceneNode) -> tuple[tuple[PlayerNode, ...], tuple[int, ...] | None]:
+    """The robots (sorted by team and number) and the ball's path in a full frame's graph.
+
+    Raises:
+        ValueError: a shirt number that is not a whole number 0..999, or a name that is a
+            list.
+    """
+    players, ball = [], None
+    for path, node in _walk(root, ()):
+        if node.kind != "DSC":
+            continue
+        for item in node.desc:
+            if item and item[0] == b"agent" and len(item) >= 3 and node.children:
+                load = node.children[0].find_load() or ""
+                model = load.split("/")[1] if load.startswith("models/") else ""
+                if not isinstance(item[2], bytes) or not item[2].isdigit():
+                    raise ValueError(f"shirt number {item[2]!r:.20} is not a whole number")
+                number = int(item[2])
+                if number > _MAX_PLAYER:
+                    raise ValueError(f"shirt number {number} out of range")
+                players.append(PlayerNode(text_of(item[1]), number, model, path))
+            elif item == [b"ball"]:
+                ball = path
+    return tuple(sorted(players, key=lambda p: (p.team, p.player))), ball
 
 
 def _walk(node: SceneNode, path: tuple[int, ...]):

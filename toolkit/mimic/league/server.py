@@ -1,7 +1,9 @@
 """Hosting RCSSServerMJ: mimic starts the league's server itself, on free ports.
 
-``LeagueServer`` runs ``python -m rcsssmj`` as a subprocess in a temporary working directory
-(the server writes ``console.log`` and ``MUJOCO_LOG.TXT`` into its working directory), headless,
+``LeagueServer`` runs the league's server as a subprocess in a temporary working directory
+(``python -m mimic.league.hosted_server``: ``python -m rcsssmj`` with its sends made safe
+against a peer that leaves; the server writes ``console.log`` and ``MUJOCO_LOG.TXT`` into its
+working directory), headless,
 in lock-step with its agents and as fast as they answer by default (``--no-render --sync
 --no-realtime``). It returns once both ports listen and the simulation loop runs (the server
 logs both) and stops the server on exit (SIGINT, then a kill if it hangs)::
@@ -57,8 +59,8 @@ class ServerConfig:
     startup_timeout_s: float = 30.0
     # How long to wait for a clean stop after SIGINT before killing the server [s].
     stop_timeout_s: float = 5.0
-    # The command that starts the server (None: this Python's ``-m rcsssmj``); mimic
-    # appends the port and mode options.
+    # The command that starts the server (None: this Python's ``-m mimic.league.hosted_server``,
+    # rcsssmj with safe sends); mimic appends the port and mode options.
     command: tuple[str, ...] | None = None
 
     def __post_init__(self) -> None:
@@ -111,7 +113,7 @@ class LeagueServer:
     def _arguments(self) -> list[str]:
         c = self.config
         args = [
-            *(c.command or (sys.executable, "-m", "rcsssmj")),
+            *(c.command or (sys.executable, "-m", "mimic.league.hosted_server")),
             "--host",
             self.host,
             "--aport",

@@ -178,6 +178,7 @@ def load_model(path: str | Path) -> MotionModel:
     path = Path(path)
     z, meta = _read_meta(path)
     with z:
+        _check_meta(path, meta)
         if int(meta.get("format_version", 0)) > FORMAT_VERSION:
             raise ModelFileError(
                 f"{path}: model format {meta['format_version']} is newer than "
@@ -232,6 +233,72 @@ def load_model(path: str | Path) -> MotionModel:
         metrics=meta.get("metrics", {}),
         metadata=meta.get("source", {}),
     )
+
+
+def _number(value, *, positive: bool = False, optional: bool = False) -> bool:
+    """A finite number (JSON int or float, not a bool), > 0 if ``positive``; None if
+    ``optional``."""
+    if value is None:
+        return optional
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        return False
+    return bool(np.isfinite(value)) and (value > 0 if positive else True)
+
+
+def _check_meta(path: Path, meta: dict) -> None:
+    """Every field ``load_model`` and ``describe_model`` read has the right type (an edited
+    ``meta.json`` fails here, in one line naming the field).
+
+    Raises:
+        ModelFileError: a field missing or of the wrong type or range.
+    """
+    from mimic.learn.model import INPUT_PHASE, INPUT_TIME
+
+    def bad(field: str, want: str) -> ModelFileError:
+        shown = json.dumps(meta.get(field), default=str)
+        shown = shown if len(shown) <= 40 else shown[:37] + "..."
+        return ModelFileError(
+            f"{path}: broken model file ({_META}: {field} must be {want}, got {shown}); {_RETRAIN}"
+        )
+
+    version = meta.get("format_version", 0)
+    if isinstance(version, bool) or not isinstance(version, int):
+        raise bad("format_version", "a whole number")
+    if not isinstance(meta.get("robot", DEFAULT_ROBOT), str):
+        raise bad("robot", "a robot name")
+    names = meta.get("joint_names")
+    if not isinstance(names, list) or not names or not all(isinstance(n, str) for n in names):
+        raise bad("joint_names", "a list of joint names")
+    if meta.get("input_kind") not in (INPUT_TIME, INPUT_PHASE):
+        raise bad("input_kind", f"{INPUT_TIME!r} or {INPUT_PHASE!r}")
+    for field in ("input_offset_s", "input_scale_per_s"):
+        if not _number(meta.get(field)):
+            raise bad(field, "a finite number")
+    if not _number(meta.get("period_s"), positive=True, optional=True):
+        raise bad("period_s", "a number of seconds > 0, or null")
+    if "duration_s" in meta and not _number(meta["duration_s"]):
+        raise bad("duration_s", "a finite number of seconds")
+    layout = meta.get("layout")
+    if (
+        not isinstance(layout, dict)
+        or not all(
+            isinstance(layout.get(k), int) and not isinstance(layout.get(k), bool) and layout[k] > 0
+            for k in ("in_dim", "out_dim")
+        )
+        or not isinstance(layout.get("hidden"), list)
+        or not all(
+            isinstance(h, int) and not isinstance(h, bool) and h > 0 for h in layout["hidden"]
+        )
+    ):
+        raise bad("layout", "{in_dim, out_dim, hidden: [sizes]} of whole numbers > 0")
+    for field in ("metrics", "source"):
+        if not isinstance(meta.get(field, {}), dict):
+            raise bad(field, "an object")
+    per_joint = meta.get("metrics", {}).get("mae_rad_per_joint", {})
+    if not isinstance(per_joint, dict) or not all(_number(v) for v in per_joint.values()):
+        raise bad("metrics", "an object whose mae_rad_per_joint maps joints to numbers")
+    if not isinstance(meta.get("preset", ""), str):
+        raise bad("preset", "a preset name")
 
 
 def describe_model(path: str | Path) -> dict:

@@ -389,6 +389,14 @@ def training_dataset(
             raise DatasetError(
                 f"--period must be a number of seconds, 'auto' or '{PERIOD_STEPS}', got {period!r}"
             ) from None
+        t = np.asarray(ds.time_s, float)
+        # The time the samples cover: first to last, and the last sample's own step.
+        span_s = float(t[-1] - t[0] + np.median(np.diff(t))) if len(t) > 1 else 0.0
+        if period_s > span_s * (1 + 1e-6):  # not one whole cycle in it: nothing to repeat
+            raise DatasetError(
+                f"--period {period_s:g} s is longer than the motion learned ({span_s:.2f} s of "
+                f"{path}); give the period of one cycle, or --period auto"
+            )
     if steps is not None:
         _check_period(period_s, steps, period)
         ds = replace(ds, metadata={**ds.metadata, "steps": steps.summary()})

@@ -439,10 +439,27 @@ def describe_recording(path: str | Path) -> dict:
         "complete": rec.recovery.complete,
         "recovery": rec.recovery.summary(),
         "bytes_lost": rec.recovery.bytes_lost,
-        "end": end,
+        "end": {key: _typed(value) for key, value in end.items()},
+        "extra": {key: _typed(value) for key, value in (info.extra if info else {}).items()},
         "started_at": _iso_time(int(start)) if start and start.isdigit() else None,
         "warnings": warnings,
     }
+
+
+def _typed(text: str):
+    """A metadata value (MCAP metadata holds strings) as JSON would have it: ``true`` and
+    ``false`` as booleans, whole numbers as integers, other numbers as floats, else text."""
+    if not isinstance(text, str):
+        return text
+    if text in ("true", "false"):
+        return text == "true"
+    for kind in (int, float):
+        try:
+            value = kind(text)
+        except ValueError:
+            continue
+        return value if kind is int or (value == value and abs(value) != float("inf")) else text
+    return text
 
 
 def _iso_time(time_ns: int) -> str:

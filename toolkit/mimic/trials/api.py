@@ -191,6 +191,8 @@ def _run_variants(
     frames, rows, traces = [], [], {}
     expected_s = None  # the previous variant's mean episode: how many to run at once
     for spec in specs:
+        if progress:  # the variant starts now (its clock too), before its first episode ends
+            progress(spec.label, EpisodeBatch([], []))
         batch = run_episodes(
             episode_fn,
             spec,

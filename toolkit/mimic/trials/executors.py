@@ -215,8 +215,27 @@ class PoolExecutor(Executor):
         running = [f for f in self._discarded if not f.done()]
         self._pool.shutdown(wait=not running, cancel_futures=True)
         if running:  # episodes nobody will read: stop them instead of waiting
-            for process in list((getattr(self._pool, "_processes", None) or {}).values()):
-                process.terminate()
+            self._terminate()
+
+    def _terminate(self) -> None:
+        """Stop the spawned processes now and wait for them (their episodes are lost)."""
+        processes = list((getattr(self._pool, "_processes", None) or {}).values())
+        for process in processes:
+            process.terminate()
+        self._pool.shutdown(wait=False, cancel_futures=True)
+        for process in processes:
+            process.join(timeout=5)
+            if process.is_alive():
+                process.kill()
+                process.join(timeout=5)
+
+    def __exit__(self, exc_type, *exc) -> None:
+        if exc_type is not None and issubclass(exc_type, BaseException):
+            # An error, Ctrl-C or SIGTERM: nobody reads the running episodes' results.
+            self._inline.clear()
+            self._terminate()
+            return
+        self.close()
 
 
 def _ray_call(fn: Callable, arg: Any) -> Any:

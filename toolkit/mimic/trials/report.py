@@ -255,11 +255,18 @@ STUCK_RULE = (
 
 def progress_status(batch: EpisodeBatch, minutes: float | None, runs: int | None) -> str:
     """A short progress line of one variant's batch (kick or walk, told by its episodes):
-    ``3.2/30 min 41 kicks 9 goals 1 fall`` or ``4/10 runs 1 fall``."""
+    ``3.2/30 min 41 kicks 9 goals 1 fall`` or ``4/10 runs 1 fall``; a first episode longer
+    than the budget (it counts: a variant has at least one) shows as ``2.3 min (one episode;
+    2 asked)``, never as more than the budget."""
     eps = batch.episodes
     falls = sum(e.get("falls", 0) for e in eps)
     fall_text = f"{falls} fall" + ("" if falls == 1 else "s")
-    done = f"{batch.simulated_s / 60:.1f}/{minutes:g} min" if minutes else f"{len(eps)}/{runs} runs"
+    if minutes and batch.simulated_s > minutes * 60:  # one episode longer than the budget
+        done = f"{batch.simulated_s / 60:.1f} min (one episode; {minutes:g} asked)"
+    elif minutes:
+        done = f"{batch.simulated_s / 60:.1f}/{minutes:g} min"
+    else:
+        done = f"{len(eps)}/{runs} runs"
     if eps and "kicks" in eps[0]:
         goals = sum(e.get("goals", 0) for e in eps)
         return f"{done} {len(batch.rows)} kicks {goals} goals {fall_text}"

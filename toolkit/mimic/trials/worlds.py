@@ -92,8 +92,8 @@ def open_world(
 ) -> Iterator[World]:
     """A world of this kind with this robot, closed (its server stopped) on exit.
 
-    ``server_command``: league only, how to start the server (None: ``python -m rcsssmj``;
-    tests wrap it).
+    ``server_command``: league only, how to start the server (None: ``python -m
+    mimic.league.hosted_server``, rcsssmj with safe sends; tests wrap it).
     """
     kind = world_kind(kind)
     if kind == MUJOCO:

@@ -1,0 +1,62 @@
+"""The README's league quick start, run as it stands: a server of its own, a black-box
+recording of the other team's walk, its copy learned step by step, played and tried.
+
+Only what a test must change is changed: free ports for 60000/60001, one trial run per
+variant, a shorter training and a shorter play (the block's own figures come from the full
+commands; ``docs/results.md``).
+"""
+
+from __future__ import annotations
+
+import os
+import re
+import socket
+import subprocess
+import sys
+from pathlib import Path
+
+import polars as pl
+
+REPO = Path(__file__).resolve().parents[1]
+
+
+def league_block(readme: str) -> str:
+    """The bash block under ``## Quick start: the league world``."""
+    section = readme.split("## Quick start: the league world", 1)[1]
+    return re.search(r"```bash\n(.*?)```", section, re.S).group(1)
+
+
+def _free_port() -> int:
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+def shortened(block: str) -> str:
+    aport, mport = _free_port(), _free_port()
+    block = block.replace("60000", str(aport)).replace("60001", str(mport))
+    block = block.replace("--runs 20", "--runs 1").replace("--duration 20", "--duration 6")
+    return block.replace("--symmetric -o", "--symmetric --epochs 1500 -o")
+
+
+def test_the_readme_league_block_runs_as_it_stands(tmp_path):
+    block = league_block((REPO / "README.md").read_text())
+    assert "rcssservermj" in block and "--period steps" in block
+    env = dict(os.environ)
+    env["PATH"] = f"{Path(sys.executable).parent}{os.pathsep}{env.get('PATH', '')}"
+    done = subprocess.run(
+        ["bash", "-e", "-c", shortened(block)],
+        cwd=tmp_path,
+        env=env,
+        capture_output=True,
+        text=True,
+        timeout=900,
+    )
+    said = done.stdout + done.stderr
+    assert done.returncode == 0, said[-3000:]
+    assert "Traceback" not in said
+    assert "steps from the feet" in said and "walked" in said
+    for made in ("out/seen.mcap", "models/seen_walk.mimic", "out/copy.mcap"):
+        assert (tmp_path / made).is_file(), made
+    runs = pl.read_parquet(tmp_path / "out" / "league_walk.parquet")
+    assert runs.height == 2 and runs["world"].unique().to_list() == ["league"]
