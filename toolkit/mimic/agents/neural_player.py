@@ -72,7 +72,9 @@ class NeuralPlayer(Agent):
     """A motion network as an agent.
 
     One-shot models: time since ``reset`` goes in; ``done`` is set when the ended flag
-    exceeds 0.5 (or, as a guard, ``max_overrun_s`` after the trained duration).
+    exceeds 0.5 (or, as a guard, ``max_overrun_s`` after the trained duration). Played past
+    its end (``mimic play --seconds``, a run that does not stop when done), a one-shot model
+    holds the last pose it learned: the time going in stops at the trained duration.
     Cyclic models: the phase advances at ``speed_rate`` times the learned rate and loops;
     they never finish by themselves. They start phase-locked (module docstring): the pose
     blends from the start angles into the cycle's mean pose over ``stance_s`` [s], then the
@@ -228,7 +230,13 @@ class NeuralPlayer(Agent):
                 self._hold_speed(obs, walk_s, played_s)
                 played_s = self.played_s(walk_s)
             self.cycle_phase = (played_s % self.model.period_s) / self.model.period_s
-        out = self.cyclic_reference(t) if self.model.cyclic else self.reference_at(t)
+        # A one-shot network knows nothing past its end (played on, its references ran off
+        # to 175 deg): it holds the last pose it learned.
+        out = (
+            self.cyclic_reference(t)
+            if self.model.cyclic
+            else self.reference_at(min(t, self.model.duration_s))
+        )
         n = self.model.num_joints
         self.reference_rad = out[:n]
         self.ended_flag = float(out[n])

@@ -20,6 +20,7 @@ __all__ = ["register"]
 class ObjectiveName(str, Enum):
     kick = "kick"
     walk = "walk"
+    getup = "getup"
 
 
 class Pick(str, Enum):
@@ -28,7 +29,7 @@ class Pick(str, Enum):
 
 
 #: Held-out validation episodes when --validate is not given: ~60 kicks, 40 walks.
-_DEFAULT_VALIDATION = {"kick": 12, "walk": 40}
+_DEFAULT_VALIDATION = {"kick": 12, "walk": 40, "getup": 20}
 #: The objective's setting that ``--fall-penalty`` sets.
 _FALL_PENALTY = {"kick": "fall_penalty_m", "walk": "fall_penalty_m_s"}
 
@@ -184,6 +185,8 @@ def _improve(
     settings = {}
     if fall_penalty is not None:
         options.finite(fall_penalty, "--fall-penalty", at_least=0)
+        if objective.value not in _FALL_PENALTY:
+            raise MimicError("--fall-penalty is a kick or walk rule; a get-up scores success")
         settings[_FALL_PENALTY[objective.value]] = fall_penalty
     if success_m is not None:
         if objective.value != "kick":

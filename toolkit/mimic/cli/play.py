@@ -8,7 +8,7 @@ from typing import Annotated
 import typer
 from rich.progress import BarColumn, Progress, TextColumn
 
-from mimic.cli.common import FORCE, console, err_console, fail, reports_errors
+from mimic.cli.common import FORCE, console, err_console, fail, reports_errors, warn
 
 __all__ = ["register"]
 
@@ -78,14 +78,19 @@ def register(app: typer.Typer) -> None:
         options.finite(seconds, "--duration", above=0)
         if out is not None:  # before a server starts; held until the file is written
             check_output(out, force=force, inputs=spec_files(agent))
-        if vx is not None:
+        if vx is not None or server is not None:
             from mimic.agents.registry import agent_spec
+            from mimic.league.play import settle_note
             from mimic.robot.registry import get_robot
 
-            options.finite(vx, "--vx", above=0)
+            if vx is not None:
+                options.finite(vx, "--vx", above=0)
             built = agent_spec(agent, robot=robot, speed_m_s=vx).build()
             built.check_robot(get_robot(robot))
             agent = built
+            note = settle_note(built, server is None, settle)
+            if note:
+                warn(note)
 
         with (
             claim_output(out) if out is not None else nullcontext(),

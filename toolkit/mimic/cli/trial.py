@@ -1,4 +1,4 @@
-"""`mimic trial kick|walk`: the study's statistical trials, variants side by side."""
+"""`mimic trial kick|walk|getup`: the study's statistical trials, variants side by side."""
 
 from __future__ import annotations
 
@@ -28,7 +28,8 @@ from mimic.cli.executor_options import RAY, RAY_ADDRESS, WORKERS, open_executor
 from mimic.errors import MimicError
 
 trial_app = typer.Typer(
-    help="Run the kick and walk trials (original and learned side by side).", no_args_is_help=True
+    help="Run the kick, walk and get-up trials (original and learned side by side).",
+    no_args_is_help=True,
 )
 
 _VARIANTS = typer.Argument(
@@ -200,6 +201,16 @@ _SHOWN = {
         "falls": "falls",
         "mean_speed_m_s_ratio": "speed ratio",
     },
+    "getup": {
+        "variant": "variant",
+        "side": "side",
+        "runs": "runs",
+        "stood": "stood",
+        "success_pct": "stood %",
+        "mean_time_to_stand_s": "time s",
+        "std_time_to_stand_s": "std s",
+        "mean_time_to_stand_s_ratio": "time ratio",
+    },
 }
 #: Shown column -> (column whose 95 % interval goes under it, how: a range in % or +- half).
 _CI_SHOWN = {
@@ -208,6 +219,8 @@ _CI_SHOWN = {
     "mean_speed_m_s": ("mean_speed_m_s", "half"),
     "mean_y_error_m": ("mean_y_error_m", "half"),
     "falls": ("fall_rate_pct", "range %"),
+    "success_pct": ("success_pct", "range"),
+    "mean_time_to_stand_s": ("mean_time_to_stand_s", "half"),
 }
 _LEGEND = {
     "kick": "95% CI: 95 % confidence interval of the accuracy (Wilson) and of the mean distance "
@@ -216,6 +229,9 @@ _LEGEND = {
     "against the first variant.",
     "walk": "95% CI: 95 % confidence interval of the means (t, +- half width) and of the share "
     "of runs that fell (Wilson). Ratios: against the first variant.",
+    "getup": "stood: runs upright at their end; time: from the get-up's start until the robot "
+    "stayed upright. 95% CI: of the share that stood (Wilson) and of the mean time (t, +- half "
+    "width). Ratios: against the first variant.",
 }
 
 
@@ -238,9 +254,11 @@ def _world_text(result) -> str:
     """How the table's episodes were played, for its title: the world and, for kicks, how
     the robot reached the ball."""
     row = result.summary.row(0, named=True)
-    world = {"league": "league world (RCSSServerMJ)", "mujoco": "our MuJoCo world"}.get(
-        row.get("world"), "our MuJoCo world"
-    )
+    world = {
+        "league": "league world (RCSSServerMJ)",
+        "mujoco": "our MuJoCo world",
+        "league-like": "our MuJoCo world with the league's solver and command delay",
+    }.get(row.get("world"), "our MuJoCo world")
     reach = {
         "place": "robot placed behind the ball after each kick",
         "walk": "robot walks to the ball",
@@ -509,6 +527,69 @@ def walk(
         f"{_minutes_text(result, minutes) + ', ' if minutes else ''}seed {seed}; "
         f"{_world_text(result)}",
     )
+    _dashboard(result, save, rerun, force)
+
+
+@trial_app.command("getup")
+@reports_errors
+def getup(
+    variants: Annotated[list[str] | None, _VARIANTS] = None,
+    compare: Annotated[bool, _COMPARE] = False,
+    motion: Annotated[str | None, _MOTION] = None,
+    model: Annotated[str | None, _MODEL] = None,
+    runs: Annotated[int, typer.Option(help="Runs per variant, >= 1.")] = 10,
+    side: Annotated[
+        str | None,
+        typer.Option(
+            help="Lay the robot on its front or back (default: the side each get-up starts from).",
+            show_default=False,
+        ),
+    ] = None,
+    seed: Annotated[int, _SEED] = 0,
+    workers: Annotated[int | None, WORKERS] = None,
+    balance: Annotated[
+        bool, typer.Option(help="Wrap learned motions in balance feedback.")
+    ] = False,
+    out: Annotated[
+        Path | None, typer.Option("--out", "-o", help="Parquet file of every run.")
+    ] = None,
+    save: Annotated[Path | None, typer.Option("--save", help=_SAVE_HELP)] = None,
+    rerun: Annotated[bool, _RERUN] = False,
+    force: Annotated[bool, FORCE] = False,
+    ray: Annotated[bool, RAY] = False,
+    ray_address: Annotated[str | None, RAY_ADDRESS] = None,
+    world: Annotated[str, WORLD] = "mujoco",
+    robot: Annotated[str | None, ROBOT] = None,
+) -> None:
+    """Get-up trial: the robot knocked down on its front or back gets up; success rate and
+    time to stand, repeated."""
+    from mimic.trials.api import getup_trial
+    from mimic.trials.getup import GetupTrialConfig
+    from mimic.trials.worlds import default_robot, world_kind
+
+    world = world_kind(world)
+    robot = robot or default_robot(world)
+    specs = _specs(
+        variants, compare, motion, model, balance, 1.0, f"getup_{side or 'front'}", robot
+    )
+    config = GetupTrialConfig(side=side, world=world)
+    _check("getup", specs, out, save, force, runs=runs, seed=seed, workers=workers, config=config)
+    with (
+        open_executor(workers, ray, ray_address) as executor,
+        TrialProgress(None, runs) as progress,
+    ):
+        result = getup_trial(
+            specs,
+            runs=runs,
+            seed=seed,
+            executor=executor,
+            out=out,
+            progress=progress,
+            trace=bool(save or rerun),
+            overwrite=force,
+            config=config,
+        )
+    _print(result, f"get-up trial, {runs} runs per variant, seed {seed}; {_world_text(result)}")
     _dashboard(result, save, rerun, force)
 
 

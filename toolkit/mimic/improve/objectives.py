@@ -9,6 +9,9 @@ and statistics), for kicks and for walks.
 * ``walk``: walk speed over the walk trial's 15 m [m/s], minus ``fall_penalty_m_s`` times the
   share of runs that fell, minus ``drift_penalty_per_m`` per metre of sideways error beyond
   ``drift_tolerance_m`` (mean over runs).
+* ``getup``: the share of get-up trial runs that stood up, less ``time_weight_per_s`` per
+  second they took (mean over runs; a run that stays down counts the trial's whole
+  ``timeout_s``, plus ``height_credit_per_m`` per metre its torso rose at its highest).
 
 Validation plays the trials unchanged (``trial_config``).
 """
@@ -20,12 +23,13 @@ from dataclasses import asdict, dataclass, replace
 import numpy as np
 
 from mimic.errors import MimicError
+from mimic.trials.getup import GetupTrialConfig, run_getup_episode
 from mimic.trials.kick import KickTrialConfig, run_kick_episode
 from mimic.trials.parallel import EpisodeBatch
-from mimic.trials.report import kick_summary, walk_summary
+from mimic.trials.report import getup_summary, kick_summary, walk_summary
 from mimic.trials.walk import WalkTrialConfig, run_walk_episode
 
-__all__ = ["KickObjective", "WalkObjective", "make_objective", "OBJECTIVES"]
+__all__ = ["KickObjective", "WalkObjective", "GetupObjective", "make_objective", "OBJECTIVES"]
 
 
 @dataclass(frozen=True)
@@ -111,7 +115,59 @@ class WalkObjective:
         )
 
 
-OBJECTIVES = {"kick": KickObjective, "walk": WalkObjective}
+@dataclass(frozen=True)
+class GetupObjective:
+    """Get-up success, then speed (module docstring)."""
+
+    # Get-up trial runs per candidate evaluation.
+    episodes: int = 4
+    # Score lost per second to stand [1/s] (a 6 s get-up that stands: 1 - 0.06 = 0.94).
+    time_weight_per_s: float = 0.01
+    # A run that stays down: credit per metre its torso rose at its highest [1/m] (a search
+    # that starts where nothing stands up gets a slope to climb; a T1 kneeling 0.35 m up
+    # earns 0.17, less than any run that stands).
+    height_credit_per_m: float = 0.5
+    # The get-up trial's settings.
+    trial_config: GetupTrialConfig = GetupTrialConfig()
+
+    name = "getup"
+    episode_fn = staticmethod(run_getup_episode)
+    summarise = staticmethod(getup_summary)
+
+    @property
+    def search_config(self) -> GetupTrialConfig:
+        return self.trial_config
+
+    def score(self, batch: EpisodeBatch) -> float:
+        """Share of runs that stood, less the time weight per second they took; a run that
+        stayed down: the whole time, plus the height credit."""
+        w, limit, credit = (
+            self.time_weight_per_s,
+            self.trial_config.timeout_s,
+            self.height_credit_per_m,
+        )
+        return float(
+            np.mean(
+                [
+                    (1.0 - w * r["time_to_stand_s"])
+                    if r["stood"]
+                    else -w * limit + credit * r.get("max_torso_height_m", 0.0)
+                    for r in batch.rows
+                ]
+            )
+        )
+
+    def describe(self) -> dict:
+        return dict(
+            name=self.name,
+            episodes=self.episodes,
+            time_weight_per_s=self.time_weight_per_s,
+            height_credit_per_m=self.height_credit_per_m,
+            trial_config=asdict(self.trial_config),
+        )
+
+
+OBJECTIVES = {"kick": KickObjective, "walk": WalkObjective, "getup": GetupObjective}
 
 
 def make_objective(name: str, episodes: int | None = None, **settings):

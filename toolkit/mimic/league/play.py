@@ -33,9 +33,9 @@ from mimic.league.world import LeagueWorld, LeagueWorldConfig
 from mimic.recording import layout as L
 from mimic.recording.writer import RecordingWriter
 from mimic.sigint import SigintFlag
-from mimic.world.base import CYCLE_S
+from mimic.world.base import CYCLE_S, POSTURES
 
-__all__ = ["play", "PlayResult", "PlayRecorder", "MAX_PLAY_S"]
+__all__ = ["play", "PlayResult", "PlayRecorder", "MAX_PLAY_S", "settle_note"]
 
 #: How long an agent that never says it is done plays without ``seconds`` [s].
 MAX_PLAY_S = 60.0
@@ -180,6 +180,11 @@ def play(
         from mimic.agents.registry import kick_ball_offset_m
 
         ball_offset = kick_ball_offset_m(agent) if world.server is not None else None
+        if agent.start_posture not in POSTURES:
+            raise LeagueError(
+                f"{agent.name} starts {agent.start_posture}; mimic can put a robot down "
+                "standing or lying only (train from where it stands or lies: --start)"
+            )
         if world.server is not None:
             Scene(
                 robot_xy_m=HOSTED_START_XY_M,
@@ -187,7 +192,9 @@ def play(
                 settle_s=settle_s,
                 ball_offset_m=ball_offset,
             ).setup(world, np.random.default_rng(0))
-        elif agent.start_posture == "standing" and settle_s > 0:
+        elif settle_s > 0:
+            # On a server mimic does not host, the robot stands where the server put it,
+            # whatever posture the agent starts from (``settle_note``).
             stand = np.asarray(world.robot.stand_pose_rad)
             run(
                 world,
@@ -263,6 +270,19 @@ def play(
             speed,
             track.falls,
         )
+
+
+def settle_note(agent: Agent, hosted: bool, settle_s: float) -> str | None:
+    """What happens to an agent that starts lying on a server mimic does not host (it cannot
+    lay the robot down there), in one line; None when it starts as the agent wants."""
+    if hosted or agent.start_posture == "standing":
+        return None
+    return (
+        f"{agent.name} starts {agent.start_posture.replace('_', ' on its ')}, but on a "
+        "server mimic does not host the robot starts where the server put it, standing: it "
+        f"holds its stand pose {settle_s:g} s (--settle), then plays from there (let mimic "
+        "host the server to start it lying)"
+    )
 
 
 def _info(agent: Agent, world: LeagueWorld, agent_address: str | None) -> L.RecordingInfo:

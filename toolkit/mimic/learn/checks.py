@@ -30,6 +30,16 @@ def input_warnings(dataset: Dataset) -> list[str]:
     whose motion never ends: the motion learned may be incomplete (``mimic train --strict``
     refuses such input)."""
     meta = dataset.metadata
+    gaps = meta.get("resampled_gaps")
+    if gaps:
+        from mimic.learn.window import describe_gaps
+
+        where = meta.get("source", dataset.name)
+        return [
+            f"{where}: {len(gaps)} gap{'s' if len(gaps) > 1 else ''} in the samples "
+            f"compensated, resampled: {describe_gaps(gaps)} (seconds from the recording's "
+            "first sample, and the gap's length)"
+        ]
     if meta.get("cut_s") is not None:
         return []  # the user chose the piece (mimic train --start/--end): nothing is missing
     where = meta.get("source", dataset.name)

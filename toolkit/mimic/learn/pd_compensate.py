@@ -23,6 +23,27 @@ follows from the observed motion by inverse dynamics:
 4. The joint rows, less the feet's share, are the joint torques; clipped to the motors' limits
    they give the references.
 
+Lying, kneeling and sitting (a get-up) the ground holds more than the feet, so every link can
+touch it (issue 35):
+
+5. Each collision shape's lowest point is found (exact for spheres and capsules, a corner of
+   its bounding box otherwise); a link whose lowest point lies within
+   ``body_contact_height_m`` of the ground (z = 0) may push there with a force (no moment).
+   A foot carries a wrench as in step 3 only when it stands flat (tilted less than
+   ``flat_foot_tilt_rad``, its sole within ``sole_height_m`` of the ground); while another
+   link touches, a foot on its heel or toes pushes at its lowest point like the rest.
+6. The floating-base rows are split over all the contacts as the least-squares solution in
+   which a point force costs as much as a foot's force; a link the solution would have pull
+   on the ground is dropped and the split solved again (at most 8 times).
+7. Saturation at the joint stops: a joint within ``stop_margin_rad`` of a stop sits at it. The
+   stop pushes only back into the range, so it gives every share of the torque that points
+   that way, and the motor gives only what points into the stop. So a joint that rests
+   against its stop under load (a knee folded by the body's weight) gets its observed angle
+   as the reference, and one that the motion drives into its stop (a keyframe commanding an
+   angle past it) gets a reference beyond the stop by the torque the motion needs there, over
+   kp. The torque the motion needs is what steps 2-6 give; a motor that pushed harder into
+   its stop than that leaves no trace in the angles and cannot be recovered.
+
 The references are returned at the sample times; a world that applies a command a cycle late
 (the league server) needs them ``lead_s`` early, which ``pd_references`` leaves to its caller
 (``training_dataset`` shifts league recordings by one cycle).
@@ -40,9 +61,14 @@ on the observed angles with 7-sample derivatives and 4.37 m with 5-sample ones, 
 25 Hz (the original: 4.70 m).
 
 What it cannot see: in double support, torques that press the legs against each other move
-nothing and leave no trace in the angles (a keyframe motion may hold such a squeeze); contacts
-other than the feet (hands and knees in a get-up) are not modelled, so lying motions get no
-ground forces.
+nothing and leave no trace in the angles (a keyframe motion may hold such a squeeze). Lying
+on several links the split of the load between them is not in the angles either: the
+least-squares split is a choice, and a motion that pushes one limb hard against the ground
+(a T1 get-up's arms, referenced 1 rad past where the ground stops them) gets less push than
+it had. Measured on our T1 ``getup_front`` recorded in our world at 50 Hz against its own
+references: 0.004-0.09 rad mean error per joint, largest on the shoulders while the arms
+press on the ground; replayed open loop it falls back from its kneel-sit, as does the
+original with 0.02 rad of random reference bias per joint in 2 of 4 runs (``docs/getups.md``).
 """
 
 from __future__ import annotations
@@ -86,6 +112,16 @@ class PdCompensationConfig:
     contact_height_m: float = 0.015
     # Cost of a foot moment [N m] relative to a force [N] when two feet share the load [1/m^2].
     moment_weight: float = 100.0
+    # Any other link (knees, hands, back, hips) touches the ground when the lowest point of
+    # its collision shapes is within this of the ground (z = 0) [m]; it can push there, not
+    # pull, with a force and no moment.
+    body_contact_height_m: float = 0.03
+    # A foot carries a wrench only when tilted less than this [rad] and its sole is within
+    # this of the ground [m] (lying, a foot rests on its heel or toes: a point).
+    flat_foot_tilt_rad: float = math.radians(30)
+    sole_height_m: float = 0.05
+    # A joint within this of a stop sits at the stop [rad].
+    stop_margin_rad: float = 0.03
 
 
 @dataclass(frozen=True)
@@ -94,16 +130,23 @@ class PdCompensation:
 
     Attributes:
         references_rad: (T, N) references that reproduce the motion [rad].
-        torques_nm: (T, N) joint torques the motion needs, clipped to the motors' limits [N m].
+        torques_nm: (T, N) joint torques the motors apply, clipped to their limits [N m] (at a
+            stop: only the share the stop cannot give).
         contacts: (T, 2) whether the left and right foot carried load.
-        base_residual: (T,) largest floating-base force or moment the feet could not supply
-            [N or N m] (0 whenever a foot touches; large in flight or when lying).
+        base_residual: (T,) largest floating-base force or moment the contacts could not
+            supply [N or N m] (0 whenever the ground holds the robot; large in flight).
+        body_contacts: (T, B) whether each of ``contact_bodies`` pushed on the ground.
+        contact_bodies: the B links other than the feet that may touch the ground.
+        at_stop: (T, N) whether each joint sat at a stop.
     """
 
     references_rad: np.ndarray
     torques_nm: np.ndarray
     contacts: np.ndarray
     base_residual: np.ndarray
+    body_contacts: np.ndarray | None = None
+    contact_bodies: tuple[str, ...] = ()
+    at_stop: np.ndarray | None = None
 
 
 def local_polynomial(
@@ -184,7 +227,12 @@ def pd_references(
     steps = np.diff(t)
     dt = float(np.median(steps))
     if not (dt > 0 and np.all(np.abs(steps - dt) < 0.25 * dt)):
-        raise MimicError("PD compensation needs evenly spaced samples (resample the motion)")
+        k = int(np.argmax(np.abs(steps - dt)))
+        raise MimicError(
+            f"PD compensation needs evenly spaced samples: {steps[k]:.3f} s between "
+            f"{t[k]:.2f} s and {t[k + 1]:.2f} s, every {dt:.3f} s elsewhere (resample the "
+            "motion: learn.window)"
+        )
     h, order = config.half_window(dt), config.poly_order
     if T < 2 * h + 1:
         raise MimicError(f"PD compensation needs at least {2 * h + 1} samples, got {T}")
@@ -210,12 +258,35 @@ def pd_references(
         d.qpos[:] = m.qpos0
         d.qpos[rq : rq + 3], d.qpos[rq + 3 : rq + 7], d.qpos[jq] = p_s[k], quat_s[k], q_s[k]
 
+    shapes = _contact_shapes(m, m.body(robot.root_link).id)
+    bodies = sorted({b for b, _ in shapes if b not in feet}) + list(feet)
     foot_z = np.zeros((T, len(feet)))
+    foot_up = np.ones((T, len(feet)))  # z of each foot's up axis: 1 flat
+    low_z = np.full((T, len(bodies)), np.inf)
+    low_point = np.zeros((T, len(bodies), 3))
     for k in range(T):
         pose(k)
         mujoco.mj_kinematics(m, d)
         foot_z[k] = [d.xpos[b][2] for b in feet]
-    contacts = foot_z < foot_z.min() + config.contact_height_m
+        foot_up[k] = [d.xmat[b][8] for b in feet]
+        for b, g in shapes:
+            point = _lowest_point(m, d, g)
+            i = bodies.index(b)
+            if point[2] < low_z[k, i]:
+                low_z[k, i], low_point[k, i] = point[2], point
+    # A foot stands on the ground (a wrench: it can tilt the body) when it is near the lowest
+    # the feet get, flat, and its sole near the ground; a foot on its heel or toes pushes at
+    # one point, like the other links.
+    contacts = (
+        (foot_z < foot_z.min() + config.contact_height_m)
+        & (foot_up > math.cos(config.flat_foot_tilt_rad))
+        & (low_z[:, -len(feet) :] < config.sole_height_m)
+    )
+    # Links other than the feet on the ground: the robot lies, kneels or sits, and a foot
+    # that touches without standing flat (toes tucked) pushes at its lowest point too.
+    touching = low_z < config.body_contact_height_m
+    others = touching[:, : -len(feet)].any(axis=1)
+    touching[:, -len(feet) :] &= others[:, None] & ~contacts
 
     kp, kd, limit = motors.kp_nm_rad, motors.kd_nm_s_rad, motors.max_torque_nm
     torques = np.zeros_like(q)
@@ -235,15 +306,89 @@ def pd_references(
             if contacts[k, i]:
                 mujoco.mj_jacBody(m, d, jacp, jacr, body)
                 columns.append(np.vstack([jacp, jacr]).T)  # generalised force of a wrench
-        if columns:
+        points = []
+        for i, body in enumerate(bodies):
+            if touching[k, i]:
+                mujoco.mj_jac(m, d, jacp, None, low_point[k, i], body)
+                points.append(jacp.T.copy())  # generalised force of a force at the point
+        if points:
+            touching[k], force = _share_load(force, base, columns, points, weights, touching[k])
+        elif columns:
             jac = np.hstack(columns)
             a = jac[base]
             w_inv = 1.0 / np.tile(weights, len(columns))
             wrench = w_inv * (a.T @ np.linalg.solve((a * w_inv) @ a.T, force[base]))
             force -= jac @ wrench
         residual[k] = np.abs(force[base]).max()
-        torques[k] = np.clip(force[jv], -limit, limit)
+        torques[k] = force[jv]
+    # Saturation: a joint at a stop is held there by the stop as far as the stop can push
+    # (back into the range); the motor gives only the torque toward the stop, which then puts
+    # the reference beyond it.
+    lower = np.array([j.lower_rad for j in robot.joints])
+    upper = np.array([j.upper_rad for j in robot.joints])
+    at_upper = q > upper - config.stop_margin_rad
+    at_lower = q < lower + config.stop_margin_rad
+    torques = np.where(at_upper, np.maximum(torques, 0.0), torques)
+    torques = np.where(at_lower, np.minimum(torques, 0.0), torques)
+    torques = np.clip(torques, -limit, limit)
     # The observed angle itself, not its smoothed value: the fit is there for the derivatives,
     # and a smoothed angle cuts a kick's strike short (see "Measured" above).
     references = q + (torques + kd * dq) / kp
-    return PdCompensation(references, torques, contacts, residual)
+    names = tuple(m.body(b).name for b in bodies)
+    return PdCompensation(
+        references, torques, contacts, residual, touching, names, at_upper | at_lower
+    )
+
+
+def _contact_shapes(m, root_body: int) -> list[tuple[int, int]]:
+    """(body, geom) of every collision shape of the robot rooted at ``root_body``."""
+    root = m.body_rootid[root_body]
+    return [
+        (int(m.geom_bodyid[g]), g)
+        for g in range(m.ngeom)
+        if m.body_rootid[m.geom_bodyid[g]] == root and (m.geom_contype[g] or m.geom_conaffinity[g])
+    ]
+
+
+def _lowest_point(m, d, g: int) -> np.ndarray:
+    """(3,) the lowest point of geom ``g`` in the field frame [m]: exact for spheres and
+    capsules, a corner of its bounding box otherwise."""
+    rot = d.geom_xmat[g].reshape(3, 3)
+    centre = d.geom_xpos[g]
+    if m.geom_type[g] == mujoco.mjtGeom.mjGEOM_SPHERE:
+        return centre - np.array([0.0, 0.0, m.geom_size[g][0]])
+    if m.geom_type[g] == mujoco.mjtGeom.mjGEOM_CAPSULE:
+        axis = rot[:, 2] * m.geom_size[g][1]
+        end = centre - axis if axis[2] > 0 else centre + axis
+        return end - np.array([0.0, 0.0, m.geom_size[g][0]])
+    half = m.geom_aabb[g][3:]
+    centre = centre + rot @ m.geom_aabb[g][:3]
+    return centre - rot @ (np.sign(rot[2]) * half)
+
+
+def _share_load(force, base, columns, points, weights, touching, max_rounds: int = 8):
+    """The ground's share of ``force`` (generalised, (nv,)) under the feet's wrenches
+    (``columns``) and the other links' point forces (``points``, one (nv, 3) Jacobian each
+    for the links ``touching``): the least-squares split (a foot moment costs ``weights`` as
+    in ``pd_references``, a point force as much as a foot's), links that would pull on the
+    ground dropped one at a time. Returns (the links that push, the force left)."""
+    touching = touching.copy()
+    where = np.nonzero(touching)[0]
+    active = list(range(len(points)))
+    while True:
+        blocks = columns + [points[i] for i in active]
+        if not blocks:
+            touching[:] = False
+            return touching, force
+        jac = np.hstack(blocks)
+        a = jac[base]
+        w_inv = 1.0 / np.r_[np.tile(weights, len(columns)), np.ones(3 * len(active))]
+        wrench = w_inv * (a.T @ np.linalg.lstsq((a * w_inv) @ a.T, force[base], rcond=1e-9)[0])
+        pushes = wrench[6 * len(columns) :].reshape(-1, 3)[:, 2]
+        if not active or pushes.min() >= 0 or max_rounds == 0:
+            break
+        active.pop(int(np.argmin(pushes)))
+        max_rounds -= 1
+    touching[:] = False
+    touching[where[active]] = True
+    return touching, force - jac @ wrench

@@ -301,6 +301,7 @@ def training_dataset(
         drop_non_repeating,
         symmetric_cycle,
     )
+    from mimic.learn.window import window
     from mimic.recording.layout import JOINT_STATES
     from mimic.robot.actuators import PDMotors, SpeedServos
     from mimic.robot.registry import get_robot
@@ -321,6 +322,13 @@ def training_dataset(
         target = (
             TARGET_COMPENSATED if observed and (servos or torso is not None) else TARGET_REACHED
         )
+    if target == TARGET_COMPENSATED:
+        # Compensate the window being learned (and a margin), gaps inside it closed: what
+        # lies outside (a skipped monitor frame, the robot moved by the referee) does not
+        # matter (``learn.window``).
+        ds = window(ds, start_s, end_s)
+        if torso is not None:
+            torso = tf.torso_at_samples(robot, ds.time_s)
     if target == TARGET_COMPENSATED and isinstance(robot.actuator, PDMotors):
         if torso is None:
             raise MimicError(
@@ -339,6 +347,9 @@ def training_dataset(
     else:
         ds = replace(ds, metadata={**ds.metadata, "target": target})
     ds = cut_dataset(ds, start_s, end_s)
+    posture = None if tf is None else tf.start_posture(robot, ds.metadata.get("cut_s"))
+    if posture is not None:
+        ds = replace(ds, metadata={**ds.metadata, "start_posture": posture})
     if "ball_offset_m" not in ds.metadata and ds.period_s is None and period is None:
         offset = None if tf is None else tf.ball_offset_m(robot, ds.metadata.get("cut_s"))
         if offset is not None:
@@ -518,6 +529,14 @@ class _RecordedTf:
         t = self._times_s(track)
         at = _interp_columns(np.array([start_s, end_s]), t, track.pos_m)
         return round(float(np.hypot(*(at[1, :2] - at[0, :2])) / (end_s - start_s)), 4)
+
+    def start_posture(self, robot, cut_s: list[float] | None) -> str | None:
+        """How the robot lay or stood at the motion's first sample (``learn.posture``), from
+        its torso pose; None without a torso."""
+        from mimic.learn.posture import start_posture
+
+        torso = self.torso_at_samples(robot, np.array([(cut_s or [0.0])[0]]))
+        return None if torso is None else start_posture(torso[0][0], torso[1][0], robot)
 
     def ball_offset_m(self, robot, cut_s: list[float] | None) -> list[float] | None:
         """Where the ball lay in the robot frame (x forward, y left of the torso [m]) at the

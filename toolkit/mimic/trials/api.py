@@ -12,9 +12,11 @@ from mimic import options
 from mimic.agents.registry import AgentSpec
 from mimic.errors import MimicError
 from mimic.trials.executors import Executor, make_executor
+from mimic.trials.getup import GetupTrialConfig, run_getup_episode
 from mimic.trials.kick import KickTrialConfig, run_kick_episode
 from mimic.trials.parallel import EpisodeBatch, run_episodes
 from mimic.trials.report import (
+    getup_summary,
     kick_summary,
     summary_files,
     walk_summary,
@@ -29,6 +31,7 @@ __all__ = [
     "TrialResult",
     "kick_trial",
     "walk_trial",
+    "getup_trial",
     "check_trial",
     "check_variants",
     "trial_files",
@@ -84,7 +87,7 @@ def check_trial(
     runs: int | None = None,
     seed: int = 0,
     workers: int | None = None,
-    config: KickTrialConfig | WalkTrialConfig | None = None,
+    config: KickTrialConfig | WalkTrialConfig | GetupTrialConfig | None = None,
 ) -> None:
     """Everything a trial checks before its first episode: options in range (``--minutes``
     finite and > 0, ``--runs`` and ``--workers`` >= 1, a seed numpy accepts), the world
@@ -108,6 +111,9 @@ def check_trial(
 
             reach_method(config, spec.robot)
     check_variants(kind, specs)
+    if kind == "getup" and config is not None:
+        for spec in specs:  # each lies down on a side: its own, or the one given
+            config.side_for(spec.build().start_posture)
 
 
 def _run(
@@ -310,6 +316,45 @@ def walk_trial(
         specs,
         config,
         minutes=minutes,
+        runs=runs,
+        seed=seed,
+        workers=workers,
+        executor=executor,
+        out=out,
+        progress=progress,
+        trace=trace,
+        overwrite=overwrite,
+    )
+
+
+def getup_trial(
+    specs: list[AgentSpec],
+    *,
+    runs: int = 10,
+    seed: int = 0,
+    workers: int | None = None,
+    out: Path | None = None,
+    config: GetupTrialConfig = GetupTrialConfig(),
+    progress=None,
+    trace: bool = False,
+    executor: Executor | None = None,
+    overwrite: bool = True,
+    world: str | None = None,
+) -> TrialResult:
+    """Get-up trial (``trials.getup``: knocked down on the side the get-up starts from, get
+    up) of each variant, ``runs`` runs each on seeds drawn from ``seed``.
+
+    ``trace``, ``executor``, ``overwrite``, ``world``, Raises: as ``kick_trial``.
+    """
+    if world is not None:
+        config = replace(config, world=world_kind(world))
+    return _run(
+        "getup",
+        run_getup_episode,
+        getup_summary,
+        specs,
+        config,
+        minutes=None,
         runs=runs,
         seed=seed,
         workers=workers,

@@ -22,6 +22,7 @@ from mimic.trials.stats import mean_interval, wilson_interval
 __all__ = [
     "kick_summary",
     "walk_summary",
+    "getup_summary",
     "with_ratios",
     "STUDY_KICK",
     "STUDY_WALK",
@@ -142,6 +143,27 @@ def walk_summary(label: str, batch: EpisodeBatch) -> dict:
     )
 
 
+def getup_summary(label: str, batch: EpisodeBatch) -> dict:
+    """One row of the get-up table: how many runs stood up, and how fast."""
+    runs = pl.DataFrame(batch.rows)
+    stood = runs.filter(pl.col("stood"))
+    times = stood["time_to_stand_s"].cast(pl.Float64).to_numpy()
+    return dict(
+        variant=label,
+        runs=runs.height,
+        stood=stood.height,
+        success_pct=100.0 * stood.height / runs.height,
+        **_ci("success_pct", wilson_interval(stood.height, runs.height), 100.0),
+        mean_time_to_stand_s=float(times.mean()) if len(times) else None,
+        **_ci("mean_time_to_stand_s", mean_interval(times)),
+        std_time_to_stand_s=float(times.std(ddof=1)) if len(times) > 1 else 0.0,
+        falls=runs.height - stood.height,
+        simulated_min=batch.simulated_s / 60,
+        world=_first(runs, "world"),
+        side=_first(runs, "side"),
+    )
+
+
 _RATIO_COLUMNS = {
     "accuracy_pct",
     "mean_distance_m",
@@ -151,6 +173,8 @@ _RATIO_COLUMNS = {
     "std_speed_m_s",
     "mean_y_error_m",
     "std_y_error_m",
+    "success_pct",
+    "mean_time_to_stand_s",
 }
 
 

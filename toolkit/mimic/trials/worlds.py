@@ -33,6 +33,7 @@ __all__ = [
     "WORLDS",
     "MUJOCO",
     "LEAGUE",
+    "LEAGUE_LIKE",
     "world_kind",
     "open_world",
     "default_robot",
@@ -41,8 +42,10 @@ __all__ = [
 
 MUJOCO = "mujoco"
 LEAGUE = "league"
+#: Ours with the league server's solver options and command delay (``world.league_like``).
+LEAGUE_LIKE = "league-like"
 #: The worlds a trial can play in.
-WORLDS = (MUJOCO, LEAGUE)
+WORLDS = (MUJOCO, LEAGUE, LEAGUE_LIKE)
 _ALIASES = {"nao": MUJOCO}
 
 
@@ -61,7 +64,7 @@ def world_kind(name: str) -> str:
 def default_robot(kind: str) -> str:
     """The robot a trial in this world uses unless told: the NAO in ours, the T1 in the
     league's."""
-    return "t1" if world_kind(kind) == LEAGUE else "nao"
+    return "t1" if world_kind(kind) in (LEAGUE, LEAGUE_LIKE) else "nao"
 
 
 def check_world(kind: str, robot: str) -> None:
@@ -97,6 +100,11 @@ def open_world(
         from mimic.world.mujoco_world import MujocoWorld
 
         yield MujocoWorld(robot)
+        return
+    if kind == LEAGUE_LIKE:
+        from mimic.world.league_like import LeagueLikeWorld
+
+        yield LeagueLikeWorld(robot)
         return
     from mimic.league.server import ServerConfig
     from mimic.league.world import LeagueWorld

@@ -1,0 +1,109 @@
+"""Get-ups learned black-box (issue 35): our T1 ``getup_front``/``getup_back`` seen through a
+hosted league server's monitor, our NAO's seen through ``/joint_states`` in our world, learned
+with ``mimic train`` and tried against the originals in ``mimic trial getup``.
+
+    python benchmarks/getup_copies.py [--out DIR] [--robot t1|nao] [--side front|back]
+        [--runs 10] [--seed 1000] [--budget 100] [--workers 2]
+
+Each step is what a user would type (``league_record.record_black_box`` stands for the two
+processes of the README's league block: the motion played on a server while ``mimic record
+--server`` records it from the monitor stream):
+
+1. Record: the T1 lying on its front (back) on a server mimic hosts, playing the get-up while
+   ``mimic record --server`` records it (seed 0); the NAO with ``mimic record getup_front
+   --observe-only`` (reached angles only). The window is the get-up: from the recording's
+   first sample to the time the agent played.
+2. ``mimic train REC --end E --target reached`` (the study's method) and ``mimic train REC
+   --end E`` (compensated, the default for observed angles): the models know they start
+   lying (``start_posture``, from the torso at the window's start).
+3. ``mimic improve COPY.mimic --objective getup --budget B --seed 3``: the compensated
+   copy's time warp, per-leg-joint offsets and gains searched on get-up trial episodes, the
+   T1's in our world made league-like (``--world league-like``: the league's solver and
+   command delay), the NAO's in ours (``--validate 0``: the trial below is the validation).
+4. ``mimic trial getup --compare ORIGINAL REACHED COMPENSATED IMPROVED --runs R --seed S``:
+   the T1 in the league's server (``--world league``) and in ours, the NAO in ours.
+
+Seeds: development used trial seed 0 and improve seed 3; the reported tables use ``--seed``
+(default 1000), whose episodes nothing in development played.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).parent))
+from league_record import mimic, record_black_box  # noqa: E402
+
+from mimic.agents.registry import agent_spec  # noqa: E402
+from mimic.episode import Scene  # noqa: E402
+
+#: Longest a get-up plays while recorded [s] (the T1's back get-up takes 10.3 s).
+PLAY_S = 14.0
+#: The improve search's seed (development).
+IMPROVE_SEED = 3
+
+
+def record(robot: str, side: str, out: Path) -> tuple[Path, float]:
+    """The get-up recorded black-box; (recording, the window's end [s])."""
+    path = out / f"{robot}_{side}.mcap"
+    motion = f"getup_{side}"
+    if robot == "t1":
+        agent = agent_spec(motion, robot="t1").build()
+        scene = Scene(robot_xy_m=(-1.0, 0.0), posture=f"lying_{side}", settle_s=0.5)
+        played_s = record_black_box(agent, scene, path, 0, PLAY_S, 0, 2.0)
+        return path, round(played_s, 2)
+    mimic("record", motion, "--robot", robot, "--observe-only", "-o", str(path), "--force")
+    return path, 0.0  # our recorder stops when the motion ends
+
+
+def learn(robot: str, side: str, rec: Path, end_s: float, out: Path, budget: int) -> list[str]:
+    """The copies: reached, compensated, compensated and improved; their files."""
+    window = ["--end", str(end_s)] if end_s else []
+    topic = [] if robot == "t1" else ["--topic", "/joint_states"]
+    reached, compensated = out / f"{robot}_{side}_reached.mimic", out / f"{robot}_{side}.mimic"
+    improved = out / f"{robot}_{side}_improved.mimic"
+    mimic("train", str(rec), *window, *topic, "--target", "reached", "-o", str(reached), "--force")
+    mimic("train", str(rec), *window, *topic, "-o", str(compensated), "--force")
+    world = "league-like" if robot == "t1" else "mujoco"
+    mimic(
+        "improve", str(compensated), "--objective", "getup", "--robot", robot, "--world", world,
+        "--budget", str(budget), "--episodes", "4", "--validate", "0", "--seed",
+        str(IMPROVE_SEED), "-o", str(improved), "--force",
+    )  # fmt: skip
+    return [str(reached), str(compensated), str(improved)]
+
+
+def trial(robot: str, side: str, copies: list[str], world: str, args, out: Path) -> None:
+    lines = mimic(
+        "trial", "getup", "--compare", f"getup_{side}", *copies, "--robot", robot, "--world",
+        world, "--runs", str(args.runs), "--seed", str(args.seed), "--workers",
+        str(args.workers), "-o", str(out / f"{robot}_{side}_{world}.parquet"), "--force",
+    )  # fmt: skip
+    print("\n".join(lines), flush=True)
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--out", type=Path, default=Path("out/getup_copies"))
+    parser.add_argument("--robot", choices=("t1", "nao"), action="append")
+    parser.add_argument("--side", choices=("front", "back"), action="append")
+    parser.add_argument("--runs", type=int, default=10)
+    parser.add_argument("--seed", type=int, default=1000)
+    parser.add_argument("--budget", type=int, default=100)
+    parser.add_argument("--workers", type=int, default=2)
+    args = parser.parse_args()
+    args.out.mkdir(parents=True, exist_ok=True)
+    for robot in args.robot or ("t1", "nao"):
+        for side in args.side or ("front", "back"):
+            rec, end_s = record(robot, side, args.out)
+            print(f"recorded {robot} getup_{side}: {rec} (window 0-{end_s or 'end'} s)")
+            copies = learn(robot, side, rec, end_s, args.out, args.budget)
+            worlds = ("league", "mujoco") if robot == "t1" else ("mujoco",)
+            for world in worlds:
+                trial(robot, side, copies, world, args, args.out)
+
+
+if __name__ == "__main__":
+    main()
