@@ -326,7 +326,8 @@ def training_dataset(
         # Compensate the window being learned (and a margin), gaps inside it closed: what
         # lies outside (a skipped monitor frame, the robot moved by the referee) does not
         # matter (``learn.window``).
-        ds = window(ds, start_s, end_s)
+        # (The observed angles too: the steps and the period are read from the same samples.)
+        ds = observed_ds = window(ds, start_s, end_s)
         if torso is not None:
             torso = tf.torso_at_samples(robot, ds.time_s)
     if target == TARGET_COMPENSATED and isinstance(robot.actuator, PDMotors):
