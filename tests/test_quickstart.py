@@ -135,12 +135,7 @@ def test_readme_quick_start_runs_in_order_on_a_fresh_copy(tmp_path):
     ray_missing = importlib.util.find_spec("ray") is None
 
     def refused_for_ray(cmd: str, out: str) -> bool:
-        return (
-            ray_missing
-            and "--ray" in cmd.split()
-            and out.strip().splitlines()
-            == ['error: --ray needs the ray extra: pip install -e ".[ray]"']
-        )
+        return ray_missing and new_user.ray_extra_missing(cmd, out)
 
     failed = [
         f"$ {cmd}\n{out}"
