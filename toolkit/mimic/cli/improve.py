@@ -284,14 +284,29 @@ def _verdict(run) -> str:
 def _bench_scaling(
     episodes: Annotated[int, typer.Option(help="Timed episodes per measurement.")] = 8,
     ray: Annotated[
-        bool, typer.Option("--ray/--no-ray", help="Measure Ray too (needs the ray extra).")
-    ] = True,
+        bool | None,
+        typer.Option(
+            "--ray/--no-ray",
+            help="Measure Ray too (needs the ray extra; default: when it is installed).",
+            show_default=False,
+        ),
+    ] = None,
 ) -> None:
     """Episodes per second for 1 and 2 local workers, process pool against Ray."""
+    import importlib.util
+
     from mimic.trials.scaling import bench_scaling, format_scaling
 
     if episodes < 1:
         raise MimicError(f"--episodes must be >= 1, got {episodes}")
+    if ray is None:
+        ray = importlib.util.find_spec("ray") is not None
+        if not ray:
+            console.print(
+                'Ray is not installed: the process pool only (pip install -e ".[ray]" for Ray)',
+                highlight=False,
+                markup=False,
+            )
     console.print(format_scaling(bench_scaling(episodes=episodes, ray=ray)), highlight=False)
 
 
