@@ -9,6 +9,7 @@ import zipfile
 
 import numpy as np
 import pytest
+from _cli_helpers import one_line_error
 from _learn_helpers import joint_frame, smooth_motion
 from typer.testing import CliRunner
 
@@ -20,16 +21,7 @@ from mimic.learn.presets import FAST
 from mimic.learn.train import TrainConfig, train_model
 
 runner = CliRunner()
-
-
-def _one_line_error(result, code: int, *fragments: str) -> str:
-    assert result.exit_code == code, result.output
-    assert "Traceback" not in result.output
-    lines = result.output.splitlines()
-    assert len(lines) == 1 and lines[0].startswith("error: "), lines
-    for fragment in fragments:
-        assert fragment in lines[0], lines[0]
-    return lines[0]
+_one_line_error = one_line_error
 
 
 @pytest.fixture(scope="module")

@@ -11,6 +11,7 @@ import time
 
 import numpy as np
 import pytest
+from _cli_helpers import one_line_error
 from _league_helpers import mimic_command
 from typer.testing import CliRunner
 
@@ -25,17 +26,8 @@ from mimic.recording import layout as L
 from mimic.recording.reader import read_joint_table, read_recording, read_tf
 
 runner = CliRunner()
+_one_line_error = one_line_error
 TEAM, PLAYER = "others", 2
-
-
-def _one_line_error(result, code: int, *fragments: str) -> str:
-    assert result.exit_code == code, result.output
-    assert "Traceback" not in result.output
-    lines = result.output.splitlines()  # no blank line before it either
-    assert len(lines) == 1 and lines[0].startswith("error: "), lines
-    for fragment in fragments:
-        assert fragment in lines[0], lines[0]
-    return lines[0]
 
 
 @pytest.fixture(scope="module")
