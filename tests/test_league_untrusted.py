@@ -474,6 +474,49 @@ def test_fifty_lists_and_recorders_leave_a_sync_server_running(tmp_path):
         assert "Traceback" not in server.output(), server.output()[-3000:]
 
 
+def test_mimic_leaves_just_after_a_message_with_a_half_close():
+    """How mimic leaves a server it does not host: it drops what it has not read, waits for
+    the next message and half-closes at once (the server's simulation thread is then
+    stepping, not sending; `Connection.close`), then reads until the server closes."""
+    import socket
+    import struct
+    import threading
+
+    from mimic.league.protocol import connect
+
+    listener = socket.create_server(("127.0.0.1", 0))
+    seen: dict = {}
+
+    def serve() -> None:
+        peer, _ = listener.accept()
+        frame = b"(RSMP 1 0)"
+        for _ in range(3):  # unread when the client leaves
+            peer.sendall(struct.pack(">I", len(frame)) + frame)
+        seen["eof_before_next"] = bool(select_readable(peer, 0.5) and not peer.recv(1))
+        seen["next_sent"] = time.monotonic()
+        peer.sendall(struct.pack(">I", len(frame)) + frame)
+        select_readable(peer, 10.0)
+        seen["eof"] = (time.monotonic(), peer.recv(1))
+        peer.sendall(frame)  # still read after the half-close: no reset
+        peer.close()
+
+    def select_readable(sock, timeout_s: float) -> bool:
+        import select
+
+        return bool(select.select([sock], [], [], timeout_s)[0])
+
+    thread = threading.Thread(target=serve, daemon=True)
+    thread.start()
+    conn = connect("127.0.0.1", listener.getsockname()[1], "monitor port")
+    assert conn.receive(timeout_s=5.0) is not None
+    conn.close(message_wait_s=5.0)
+    thread.join(timeout=10.0)
+    listener.close()
+    assert seen["eof_before_next"] is False
+    eof_at, data = seen["eof"]
+    assert data == b"" and eof_at >= seen["next_sent"]
+
+
 def test_sigterm_ends_a_recording_with_its_file_finished(real, tmp_path):
     """`kill` (SIGTERM) of a recorder: its file finished and marked interrupted, and it
     leaves the server like Ctrl-C does (a half-close, not a reset); exit 143."""

@@ -151,29 +151,49 @@ class Connection:
     def where(self) -> str:
         return f"{self.address[0]}:{self.address[1]}"
 
-    def close(self, linger_s: float = 1.0) -> None:
-        """Leave: half-close, read until the server closes its end (at most ``linger_s``),
-        then close.
+    def close(self, linger_s: float = 1.0, message_wait_s: float = 0.2) -> None:
+        """Leave: just after a message arrives, half-close, read until the server closes its
+        end (at most ``linger_s`` [s]), then close.
 
         rcsssmj 0.2.1 ends its whole simulation when a send to a peer fails with anything but
-        ``BrokenPipeError``. Closing with unread data would reset the connection
-        (``ConnectionResetError`` in the server's next send), so the half-close goes first and
-        every byte is read until the server has closed its end. One failure no peer can rule
-        out remains on the server's side: its reader thread closes the socket while its
-        simulation thread is about to send (``Bad file descriptor``); whether that happens
-        depends on how the server's threads are scheduled, not on the peer. Servers mimic
-        hosts are patched against it (``mimic.league.hosted_server``).
+        ``BrokenPipeError``, and two ways of leaving meet that:
+
+        - Closing with unread data resets the connection (``ConnectionResetError`` in the
+          server's next send), so the half-close goes first and every byte is read until the
+          server has closed its end.
+        - When the half-close arrives, the server's reader thread closes the socket; if its
+          simulation thread is at that moment between "is the peer active?" and its send, the
+          send fails with ``Bad file descriptor``. The reader thread runs when the simulation
+          thread lets go of the interpreter lock: in MuJoCo's step (harmless) or in a send
+          (fatal). Just after a message has arrived the simulation thread is stepping, so
+          mimic waits for the next message (at most ``message_wait_s`` [s]) and leaves at once.
+          That makes the fatal case rare, not impossible; servers mimic hosts are patched
+          against it (``mimic.league.hosted_server``).
         """
+        sock = self._sock
         try:
-            self._sock.shutdown(socket.SHUT_WR)
-            deadline = time.monotonic() + linger_s
-            while (left := deadline - time.monotonic()) > 0:
-                ready, _, _ = select.select([self._sock], [], [], left)
-                if ready and not self._sock.recv(1 << 20):
-                    break
+            if not self._skip_to_next_message(message_wait_s):
+                sock.shutdown(socket.SHUT_WR)
+                deadline = time.monotonic() + linger_s
+                while (left := deadline - time.monotonic()) > 0:
+                    ready, _, _ = select.select([sock], [], [], left)
+                    if ready and not sock.recv(1 << 20):
+                        break
         except OSError:
             pass
-        self._sock.close()
+        sock.close()
+
+    def _skip_to_next_message(self, wait_s: float) -> bool:
+        """Drop what has arrived, then wait up to ``wait_s`` [s] for more; True if the server
+        has closed its end."""
+        sock = self._sock
+        self._buffer.clear()
+        while select.select([sock], [], [], 0.0)[0]:
+            if not sock.recv(1 << 20):
+                return True
+        if select.select([sock], [], [], wait_s)[0]:
+            return not sock.recv(1 << 20)
+        return False
 
     def __enter__(self) -> Connection:
         return self

@@ -150,7 +150,7 @@ class PolicyWalkParams:
     timing_noise: float = 0.15
     timing_noise_keep: float = 0.9
     # ... within these shares of the team's step time.
-    min_step_scale: float = 0.75
+    min_step_scale: float = 0.7
     max_step_scale: float = 1.2
     # Largest change of the step time from one step to the next [cycles of 20 ms].
     max_step_change_cycles: int = 1
