@@ -29,8 +29,8 @@ from mimic.agents.base import Agent, JointCommand
 from mimic.agents.keyframe_player import KeyframePlayer
 from mimic.agents.neural_player import NeuralPlayer
 from mimic.episode import Episode, FallCounter, Observer, PoseNoise, Scene
-from mimic.learn.model_file import load_model, save_model
 from mimic.learn.train import TARGET_REACHED, TrainConfig, train_model, training_dataset
+from mimic.model.model_file import load_model, save_model
 from mimic.motion.files import load_motion
 from mimic.recording.layout import JOINT_STATES
 from mimic.recording.recorder import record

@@ -42,7 +42,7 @@ from t1_copy_gain import _scene  # noqa: E402
 
 from mimic.agents.balance import with_balance_gains  # noqa: E402
 from mimic.agents.registry import agent_spec  # noqa: E402
-from mimic.learn.model_file import load_model, save_model  # noqa: E402
+from mimic.model.model_file import load_model, save_model  # noqa: E402
 
 #: How long the walk is recorded, and where its steady part starts and ends [s of the
 #: recording]. The end stays clear of the recording's last second: there the other team's

@@ -26,8 +26,8 @@ from rich.console import Console
 from rich.table import Table
 
 from mimic.agents.registry import AgentSpec
-from mimic.learn.model_file import save_model
 from mimic.learn.train import TrainConfig, train_model, training_dataset
+from mimic.model.model_file import save_model
 from mimic.recording.recorder import record
 from mimic.robot.registry import DEFAULT_ROBOT
 from mimic.trials.api import walk_trial

@@ -30,7 +30,7 @@ result = reproduce_paper(OUT, minutes=MINUTES, seed=0, say=print)"""),
     md("## Table 3: forward walk trial (own goal line to centre line, 15 m)"),
     code("result.walk"),
     md("## Joint curves: original vs learned"),
-    code("""from mimic.learn.model_file import load_model
+    code("""from mimic.model.model_file import load_model
 from mimic.recording.reader import read_joint_table
 
 def plot_motion(recording, model, joints, title):

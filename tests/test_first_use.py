@@ -16,9 +16,9 @@ from typer.testing import CliRunner
 from mimic.cli.main import app
 from mimic.errors import ModelFileError
 from mimic.learn.dataset import dataset_from_frame
-from mimic.learn.model_file import describe_model, load_model, save_model
 from mimic.learn.presets import FAST
 from mimic.learn.train import TrainConfig, train_model
+from mimic.model.model_file import describe_model, load_model, save_model
 
 runner = CliRunner()
 _one_line_error = one_line_error

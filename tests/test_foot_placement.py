@@ -14,13 +14,14 @@ import numpy as np
 import pytest
 
 from mimic.agents.balance import BalancedAgent, default_gains, gains_with, with_balance_gains
-from mimic.agents.foot_placement import FOOT_TRACK_KEY, FootKinematics, FootTrack
 from mimic.agents.neural_player import NeuralPlayer
 from mimic.errors import MimicError
 from mimic.learn.presets import FAST
 from mimic.learn.train import TrainConfig, train_model, training_dataset
+from mimic.model.foot_track import FOOT_TRACK_KEY, FootTrack
 from mimic.recording import layout as L
 from mimic.recording.recorder import record
+from mimic.world.kinematics import FootKinematics
 from mimic.world.mujoco_world import MujocoWorld
 
 PLACE = {"place_y": 0.25, "place_y_rate_s": 0.2, "place_x": 0.2}

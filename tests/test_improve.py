@@ -20,9 +20,9 @@ from mimic.improve.objectives import OBJECTIVES, KickObjective, WalkObjective
 from mimic.improve.search import MAX_SEARCH_EPISODE, CheckpointError
 from mimic.improve.targets import load_target
 from mimic.improve.validation import held_out_episodes
-from mimic.learn.model import MotionModel
-from mimic.learn.model_file import load_model, save_model
-from mimic.learn.network import Layout, init_params
+from mimic.model.model_file import load_model, save_model
+from mimic.model.motion_model import MotionModel
+from mimic.model.network import Layout, init_params
 from mimic.motion.files import load_motion, parse_motion
 from mimic.robot.nao import nao
 from mimic.trials.kick import KickTrialConfig

@@ -183,9 +183,9 @@ def test_a_model_of_another_robot_played_on_the_t1(tmp_path):
     from _learn_helpers import joint_frame, smooth_motion
 
     from mimic.learn.dataset import dataset_from_frame
-    from mimic.learn.model_file import save_model
     from mimic.learn.presets import FAST
     from mimic.learn.train import TrainConfig, train_model
+    from mimic.model.model_file import save_model
 
     t, q = smooth_motion(20)
     model = train_model(

@@ -21,7 +21,7 @@ from mimic.league.play import play
 from mimic.league.player_writer import PlayerWriter
 from mimic.league.server import LeagueServer, ServerConfig, free_port
 from mimic.league.world import LeagueWorld, LeagueWorldConfig
-from mimic.learn.model_file import load_model
+from mimic.model.model_file import load_model
 from mimic.recording import layout as L
 from mimic.recording.reader import read_joint_table, read_recording, read_tf
 

@@ -6,7 +6,7 @@ from _learn_helpers import PAPER_DATA, smooth_motion
 from typer.testing import CliRunner
 
 from mimic.cli.main import app
-from mimic.learn.model_file import load_model
+from mimic.model.model_file import load_model
 
 runner = CliRunner()
 

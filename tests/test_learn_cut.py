@@ -19,8 +19,8 @@ from mimic.learn.dataset import (
     detect_period_s,
     drop_non_repeating,
 )
-from mimic.learn.model_file import load_model
 from mimic.learn.train import training_dataset
+from mimic.model.model_file import load_model
 from mimic.recording import layout as L
 from mimic.recording.writer import RecordingWriter
 from mimic.robot.registry import get_robot

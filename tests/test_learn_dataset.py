@@ -7,10 +7,10 @@ from _learn_helpers import NAO, PAPER_DATA, joint_frame, smooth_motion
 
 from mimic.errors import DatasetError
 from mimic.learn.dataset import dataset_from_file, dataset_from_frame
-from mimic.learn.model import MotionModel
-from mimic.learn.network import Layout
 from mimic.learn.presets import FAST
 from mimic.learn.train import input_mapping
+from mimic.model.motion_model import MotionModel
+from mimic.model.network import Layout
 
 
 def test_targets_have_22_joints_and_flag_on_last_sample():

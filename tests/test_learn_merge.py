@@ -13,7 +13,7 @@ from mimic.cli.main import app
 from mimic.errors import DatasetError
 from mimic.learn.dataset import dataset_from_file
 from mimic.learn.merge import align_shift_s, merged_training_dataset
-from mimic.learn.model_file import describe_model, load_model
+from mimic.model.model_file import describe_model, load_model
 from mimic.recording import layout as L
 from mimic.recording.reader import read_recording
 from mimic.recording.writer import RecordingWriter

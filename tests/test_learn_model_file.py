@@ -9,9 +9,9 @@ from _learn_helpers import joint_frame, smooth_motion
 
 from mimic.errors import ModelFileError
 from mimic.learn.dataset import dataset_from_frame
-from mimic.learn.model_file import describe_model, is_model_file, load_model, save_model
 from mimic.learn.presets import FAST
 from mimic.learn.train import TrainConfig, train_model
+from mimic.model.model_file import describe_model, is_model_file, load_model, save_model
 
 
 @pytest.fixture(scope="module")

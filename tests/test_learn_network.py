@@ -6,9 +6,9 @@ from _learn_helpers import NAO, joint_frame, smooth_motion
 
 from mimic.learn.bench import torch_baseline
 from mimic.learn.dataset import dataset_from_frame
-from mimic.learn.network import AdamTrainer, Layout, init_params
 from mimic.learn.presets import FAST, PAPER
 from mimic.learn.train import TrainConfig, train_model, train_models
+from mimic.model.network import AdamTrainer, Layout, init_params
 
 
 @pytest.fixture(scope="module")

@@ -11,9 +11,9 @@ from mimic.errors import DatasetError, MimicError
 from mimic.learn.bench import synthetic_dataset
 from mimic.learn.dataset import dataset_from_frame
 from mimic.learn.export import export_onnx
-from mimic.learn.model_file import describe_model, load_model, save_model
 from mimic.learn.presets import FAST
 from mimic.learn.train import TrainConfig, train_model, train_models, training_dataset
+from mimic.model.model_file import describe_model, load_model, save_model
 from mimic.recording import layout as L
 from mimic.recording.writer import RecordingWriter
 from mimic.robot.registry import get_robot

@@ -13,9 +13,9 @@ import pytest
 from mimic.agents.balance import foot_yaw_shift_rad
 from mimic.agents.neural_player import NeuralPlayer
 from mimic.agents.registry import AgentSpec
-from mimic.learn.model_file import save_model
 from mimic.learn.presets import get_preset
 from mimic.learn.train import TrainConfig, train_model, training_dataset
+from mimic.model.model_file import save_model
 from mimic.recording.recorder import record
 from mimic.robot.joints import joint_index
 from mimic.robot.nao import nao

@@ -8,9 +8,9 @@ from mimic.agents.base import Agent, JointCommand
 from mimic.agents.neural_player import NeuralPlayer
 from mimic.episode import Observer, run
 from mimic.learn.dataset import dataset_from_frame
-from mimic.learn.model_file import save_model
 from mimic.learn.presets import FAST
 from mimic.learn.train import TrainConfig, train_model
+from mimic.model.model_file import save_model
 from mimic.motion.files import load_motion
 from mimic.robot.nao import nao
 from mimic.world.mujoco_world import MujocoWorld

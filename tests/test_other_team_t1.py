@@ -126,7 +126,7 @@ def test_kick_moves_the_ball_and_the_robot_stays_up(world):
 
 
 def test_the_team_process_walks_and_stops_on_a_hosted_server(capsys):
-    from mimic.agents.other_team_t1.__main__ import main
+    from mimic.league.other_team_t1 import main
 
     assert main(["--walk-s", "2.5", "--team", "Others", "--player", "4"]) == 0
     assert "Others #4: done" in capsys.readouterr().out

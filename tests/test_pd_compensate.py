@@ -134,9 +134,9 @@ def test_bad_input_is_one_line():
 
 
 def test_the_view_shows_the_compensated_references_of_a_t1(walk, tmp_path):
-    from mimic.learn.model_file import save_model
     from mimic.learn.presets import FAST
     from mimic.learn.train import TrainConfig, train_model
+    from mimic.model.model_file import save_model
     from mimic.viz.recording import view_recording
 
     path = walk[0]

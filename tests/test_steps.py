@@ -174,7 +174,7 @@ def test_a_learned_walk_holds_a_commanded_speed_by_its_phase_rate(policy_walk_re
     """A step-phase copy carries the speed its recording walked and holds it (or --vx) by its
     phase rate, the phase continuous; without a command it plays at its learned rate."""
     from mimic.agents.neural_player import RATE_RANGE, NeuralPlayer
-    from mimic.learn.model_file import load_model
+    from mimic.model.model_file import load_model
 
     out = tmp_path / "copy.mimic"
     said = runner.invoke(

@@ -13,13 +13,13 @@ import numpy as np
 import pytest
 from typer.testing import CliRunner
 
-from mimic.agents.foot_placement import FOOT_TRACK_KEY, FootTrack
 from mimic.cli.main import app
 from mimic.errors import DatasetError
 from mimic.learn.dataset import as_cyclic, dataset_from_frame, symmetric_cycle
-from mimic.learn.model_file import load_model
 from mimic.learn.presets import FAST
 from mimic.learn.train import TrainConfig, train_model, training_dataset
+from mimic.model.foot_track import FOOT_TRACK_KEY, FootTrack
+from mimic.model.model_file import load_model
 from mimic.recording import layout as L
 from mimic.recording.recorder import record
 from mimic.robot.registry import get_robot

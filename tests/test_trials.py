@@ -15,9 +15,9 @@ from mimic.agents.registry import agent_spec as parse_agent_spec
 from mimic.cli.main import app
 from mimic.errors import MimicError
 from mimic.learn.dataset import dataset_from_frame
-from mimic.learn.model_file import save_model
 from mimic.learn.presets import FAST
 from mimic.learn.train import TrainConfig, train_model
+from mimic.model.model_file import save_model
 from mimic.robot.nao import nao
 from mimic.trials.api import kick_trial, walk_trial
 from mimic.trials.parallel import derive_seed

@@ -60,9 +60,9 @@ def test_centre_of_mass_of_standing_robot_is_over_the_feet(stand_recording):
 
 
 def test_view_with_a_model_shows_compensated_and_replayed_curves(tmp_path, rerun_cli):
-    from mimic.learn.model_file import save_model
     from mimic.learn.presets import FAST
     from mimic.learn.train import TrainConfig, train_model, training_dataset
+    from mimic.model.model_file import save_model
     from mimic.recording.recorder import RecordConfig
 
     source = tmp_path / "kick.mcap"

@@ -13,8 +13,8 @@ from pathlib import Path
 import polars as pl
 
 from mimic.agents.registry import AgentSpec
-from mimic.learn.model_file import save_model
 from mimic.learn.train import TARGET_REACHED, TrainConfig, train_model, training_dataset
+from mimic.model.model_file import save_model
 from mimic.recording.layout import JOINT_STATES
 from mimic.recording.recorder import record
 from mimic.trials.api import TrialResult, kick_trial, walk_trial

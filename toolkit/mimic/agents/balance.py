@@ -23,7 +23,7 @@ learned walk fell about six times as often). A correction means opposite things 
 * Foot placement (cyclic motions that carry their recording's foot track, gains
   ``place_*``, off by default): the support foot under the torso is compared with where the
   recording had it at the same phase, and the swing foot lands farther along that error and
-  its rate (``agents.foot_placement``); the support foot keeps the shift it landed with.
+  its rate (``model.foot_track``); the support foot keeps the shift it landed with.
 * Heading: walk engines turn by yawing the feet in each step: the swing foot is put down
   turned by half the step's turn and the support foot turns back by the other half, so the
   torso rotates over the planted foot. We do the same with the hip yaw-pitch joints (their
@@ -51,12 +51,12 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from mimic.agents.base import Agent, JointCommand
-from mimic.agents.foot_placement import FootKinematics
 from mimic.errors import MimicError
 from mimic.geometry import yaw_from_quat
 from mimic.robot.model import RobotDescription
 from mimic.robot.registry import get_robot
 from mimic.world.base import CYCLE_S, Observation
+from mimic.world.kinematics import FootKinematics
 
 __all__ = [
     "BalanceGains",
@@ -110,7 +110,7 @@ class BalanceGains:
     # ... and this many 20 ms cycles later (the tracking lag: weight moves with the joints).
     support_delay_cycles: int = 1
     # Foot placement (cyclic motions that carry their recording's foot track;
-    # ``agents.foot_placement``): the swing foot lands this much farther forward / leftward
+    # ``model.foot_track``): the swing foot lands this much farther forward / leftward
     # per metre of the torso's error over the support foot against the track, and per m/s of
     # the error's rate (capture-point style) [m/m, m/(m/s)]; all 0 switch it off.
     place_x: float = 0.0
@@ -302,7 +302,7 @@ def gains_with(base: BalanceGains, fields: dict, where: str = "balance gains") -
 
 
 def with_balance_gains(model, fields: dict):
-    """A learned model (``learn.model.MotionModel``) that carries its own balance gains: the
+    """A learned model (``model.motion_model.MotionModel``) that carries its own balance gains: the
     named ``BalanceGains`` fields (checked), on top of any it carries already, over the
     robot's defaults wherever the balance layer plays it (``M.mimic+balance``)."""
     gains_with(BalanceGains(), fields, f"{model.name}'s balance gains")
@@ -499,7 +499,7 @@ class BalancedAgent(Agent):
     def placement_shift_m(self, obs: Observation, changed: bool) -> dict[float, np.ndarray]:
         """Per side the (x, y) landing shift [m] of foot placement this cycle: the swing foot
         moves toward the capture-point shift over its step, the support foot keeps where it
-        landed (``agents.foot_placement``)."""
+        landed (``model.foot_track``)."""
         g, inner = self.gains, self.inner
         if changed:  # the old swing foot landed with its shift; the new one starts from its own
             self._place_from = {s: v.copy() for s, v in self._place.items()}

@@ -19,8 +19,8 @@ import numpy as np
 
 from mimic.agents.balance import BALANCE_GAINS_KEY
 from mimic.agents.base import Agent, JointCommand
-from mimic.agents.foot_placement import FOOT_TRACK_KEY, FootTrack
-from mimic.learn.model import MotionModel
+from mimic.model.foot_track import FOOT_TRACK_KEY, FootTrack
+from mimic.model.motion_model import MotionModel
 from mimic.world.base import Observation
 
 __all__ = ["NeuralPlayer", "DEFAULT_STANCE_S", "DEFAULT_START_RAMP_S", "WALK_SPEED_KEY"]
@@ -113,7 +113,7 @@ class NeuralPlayer(Agent):
         # Gains the balance layer uses around this model (``agents.balance``), if it has its own.
         self.balance_gains = dict(model.metadata.get(BALANCE_GAINS_KEY) or {})
         # Where the recording had its feet under the torso by phase (cyclic models learned
-        # from a recording with body poses; ``agents.foot_placement``), for the balance layer.
+        # from a recording with body poses; ``model.foot_track``), for the balance layer.
         track = model.metadata.get(FOOT_TRACK_KEY) if model.cyclic else None
         self.foot_track = (
             None if track is None else FootTrack.from_metadata(track, f"{model.name}'s foot track")
@@ -143,7 +143,7 @@ class NeuralPlayer(Agent):
     @classmethod
     def from_file(cls, path: str | Path, **kwargs) -> NeuralPlayer:
         """Load a ``.mimic`` model (raises ``ModelFileError`` for a bad file)."""
-        from mimic.learn.model_file import load_model
+        from mimic.model.model_file import load_model
 
         return cls(load_model(path), **kwargs)
 

@@ -198,7 +198,7 @@ def agent_spec(
             raise MimicError(f"{text!r} is a directory, not a model file; give a .mimic file")
         if not path.is_file():
             raise MimicError(f"model file {text!r} not found; train one with 'mimic train'")
-        from mimic.learn.model_file import load_model
+        from mimic.model.model_file import load_model
 
         return AgentSpec("model", text, load_model(text).robot, balance, speed_rate, speed_m_s)
     if text.endswith(".json"):

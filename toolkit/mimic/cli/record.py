@@ -241,7 +241,7 @@ def register(app: typer.Typer) -> None:
         as_json: Annotated[bool, typer.Option("--json", help="Print JSON.")] = False,
     ) -> None:
         """Describe a recording (topics, duration, rate, completeness) or a learned model."""
-        from mimic.learn.model_file import describe_model, looks_like_model_file
+        from mimic.model.model_file import describe_model, looks_like_model_file
         from mimic.recording.reader import describe_recording
 
         if looks_like_model_file(file):

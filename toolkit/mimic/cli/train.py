@@ -153,9 +153,9 @@ def register(app: typer.Typer) -> None:
         from mimic.files import check_outputs
         from mimic.learn.checks import fit_warnings, input_warnings
         from mimic.learn.dataset import NON_REPEATING_RAD
-        from mimic.learn.model_file import SUFFIX, save_model
         from mimic.learn.presets import get_preset
         from mimic.learn.train import TrainConfig, train_models, training_dataset
+        from mimic.model.model_file import SUFFIX, save_model
 
         save = save_path(save, save_old)
         if rerun:
@@ -300,7 +300,7 @@ def register(app: typer.Typer) -> None:
         the ended flag)."""
         from mimic.files import check_output
         from mimic.learn.export import export_onnx
-        from mimic.learn.model_file import load_model
+        from mimic.model.model_file import load_model
 
         loaded = load_model(model)
         check_output(onnx, force=force, inputs=[model])

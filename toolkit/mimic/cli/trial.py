@@ -96,7 +96,7 @@ def _trial_robot(robot: str | None, world: str, names: list[str]) -> str:
     models = [n.removesuffix(BALANCE_SUFFIX) for n in names if n]
     models = [n for n in models if n.endswith(".mimic") and Path(n).is_file()]
     if models:
-        from mimic.learn.model_file import load_model
+        from mimic.model.model_file import load_model
 
         robots = {load_model(n).robot for n in models}
         if len(robots) == 1:

@@ -25,7 +25,7 @@ import dataclasses
 
 import numpy as np
 
-from mimic.learn.model import MotionModel
+from mimic.model.motion_model import MotionModel
 
 __all__ = ["corrected_model", "CORRECTION_KEY"]
 

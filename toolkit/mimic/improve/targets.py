@@ -335,7 +335,7 @@ class ModelTarget(Target):
         return ModelSpec(self.model, self.label, self.balance)
 
     def write(self, z, path, provenance):
-        from mimic.learn.model_file import save_model
+        from mimic.model.model_file import save_model
 
         return save_model(self.model_at(z, provenance), Path(path))
 
@@ -447,7 +447,7 @@ def load_target(text: str, *, joints: str = "legs", robot: str = "nao") -> Targe
 
         return MotionTarget(text, load_motion(spec.ref, spec.robot), joints)
     if spec.kind == "model":
-        from mimic.learn.model_file import load_model
+        from mimic.model.model_file import load_model
 
         return ModelTarget(text, load_model(spec.ref), spec.balance, joints)
     engine = spec.kind == "params" or (spec.ref in PARAM_ENGINES and spec.ref in ENGINE_SEARCH)

@@ -48,7 +48,15 @@ from mimic.robot.actuators import JointCommand
 from mimic.robot.mjcf_reader import collision_geoms, geom_box_corners, load_model
 from mimic.robot.model import RobotDescription
 from mimic.robot.registry import get_robot
-from mimic.world.base import CYCLE_S, POSTURES, BodyPoses, Observation, World, posture_quat
+from mimic.world.base import (
+    CYCLE_S,
+    LEAGUE_COMMAND_DELAY_CYCLES,
+    POSTURES,
+    BodyPoses,
+    Observation,
+    World,
+    posture_quat,
+)
 from mimic.world.league_field import league_field
 
 __all__ = ["LeagueWorld", "LeagueWorldConfig"]
@@ -86,9 +94,7 @@ class LeagueWorld(World):
         server_config: how to host the server (used only without ``agent_address``).
     """
 
-    # The server's parallel loop applies an answer to a perception one cycle later than our
-    # world does: a step in a reference shows two cycles after it was sent, not one.
-    command_delay_cycles = 1
+    command_delay_cycles = LEAGUE_COMMAND_DELAY_CYCLES
 
     def __init__(
         self,

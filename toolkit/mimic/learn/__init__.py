@@ -10,8 +10,6 @@ Notebook entry points::
 """
 
 from mimic.learn.dataset import Dataset, dataset_from_file, dataset_from_frame
-from mimic.learn.model import MotionModel
-from mimic.learn.model_file import describe_model, is_model_file, load_model, save_model
 from mimic.learn.presets import FAST, PAPER, Phase, Preset, get_preset
 from mimic.learn.train import (
     TrainConfig,
@@ -21,6 +19,8 @@ from mimic.learn.train import (
     train_models,
     training_dataset,
 )
+from mimic.model.model_file import describe_model, is_model_file, load_model, save_model
+from mimic.model.motion_model import MotionModel
 
 __all__ = [
     "Dataset",

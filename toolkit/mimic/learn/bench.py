@@ -101,7 +101,7 @@ def torch_baseline(dataset, params0: np.ndarray, epochs: int, lr: float = 1e-3):
     """
     import torch
 
-    from mimic.learn.network import LEAKY_SLOPE, Layout
+    from mimic.model.network import LEAKY_SLOPE, Layout
 
     layout = Layout.for_joints(dataset.num_joints)
     w = layout.widths
@@ -181,9 +181,9 @@ def bench_train(
 ) -> BenchResult:
     """Run the benchmark (about 10 s on an idle 2-core machine)."""
     _single_thread()
-    from mimic.learn.network import Layout, init_params
     from mimic.learn.presets import FAST, PAPER
     from mimic.learn.train import TrainConfig, train_model, train_models
+    from mimic.model.network import Layout, init_params
 
     ds = kick_dataset()
     data = "study kick (77 samples)"

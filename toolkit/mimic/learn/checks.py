@@ -5,7 +5,7 @@ too poor to trust. Each function returns warnings as one-line strings (the CLI p
 from __future__ import annotations
 
 from mimic.learn.dataset import Dataset
-from mimic.learn.model import MotionModel
+from mimic.model.motion_model import MotionModel
 
 __all__ = ["input_warnings", "fit_warnings", "POOR_FIT_MAE_RAD", "CYCLES_TO_LEARN"]
 

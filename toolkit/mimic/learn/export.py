@@ -25,8 +25,8 @@ from pathlib import Path
 import numpy as np
 
 from mimic import __version__
-from mimic.learn.model import INPUT_PHASE, MotionModel
-from mimic.learn.network import LEAKY_SLOPE
+from mimic.model.motion_model import INPUT_PHASE, MotionModel
+from mimic.model.network import LEAKY_SLOPE
 
 __all__ = ["model_to_onnx", "export_onnx", "output_doc", "OPSET", "INPUT_DOC"]
 

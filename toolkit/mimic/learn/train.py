@@ -21,9 +21,9 @@ from mimic import __version__
 from mimic.errors import MimicError
 from mimic.geometry import in_robot_frame, one_hemisphere, yaw_from_quat
 from mimic.learn.dataset import Dataset
-from mimic.learn.model import INPUT_PHASE, INPUT_TIME, MotionModel
-from mimic.learn.network import AdamTrainer, Layout, init_params
 from mimic.learn.presets import FAST, Preset
+from mimic.model.motion_model import INPUT_PHASE, INPUT_TIME, MotionModel
+from mimic.model.network import AdamTrainer, Layout, init_params
 
 __all__ = [
     "TrainConfig",
@@ -290,7 +290,6 @@ def training_dataset(
         MimicError: ``compensated`` asked for a PD-motor robot's recording without a torso
             pose.
     """
-    from mimic.agents.foot_placement import FOOT_TRACK_KEY
     from mimic.errors import DatasetError
     from mimic.learn.compensate import compensate_references
     from mimic.learn.dataset import (
@@ -302,6 +301,7 @@ def training_dataset(
         symmetric_cycle,
     )
     from mimic.learn.window import window
+    from mimic.model.foot_track import FOOT_TRACK_KEY
     from mimic.recording.layout import JOINT_STATES
     from mimic.robot.actuators import PDMotors, SpeedServos
     from mimic.robot.registry import get_robot
@@ -428,8 +428,8 @@ _CYCLE_RATIO = (0.8, 1.25)
 def _steps(seen: Dataset, torso_quat: np.ndarray, robot, required: bool):
     """The walk's steps (``learn.steps.find_steps``) over the cut ``seen``; None if there are
     none and they were not ``required``."""
-    from mimic.agents.foot_placement import FootKinematics
     from mimic.learn.steps import find_steps
+    from mimic.world.kinematics import FootKinematics
 
     kin = FootKinematics(robot)
     feet_z = np.stack([kin.feet_height_m(q, quat) for q, quat in zip(seen.angles_rad, torso_quat)])
@@ -462,11 +462,11 @@ def _check_period(period_s: float, steps, period) -> None:
 
 
 def _foot_track(phase_time_s, angles_rad, torso_quat, robot, period_s):
-    """The recorded cycle's foot track (``agents.foot_placement``: where the feet were under
+    """The recorded cycle's foot track (``model.foot_track``: where the feet were under
     the torso by phase, for the balance layer's foot placement), from the observed angles and
     the torso's orientation over the cut, each sample at its phase ``phase_time_s /
     period_s``; None without two legs."""
-    from mimic.agents.foot_placement import foot_track
+    from mimic.learn.foot_track import foot_track
 
     try:
         return foot_track(phase_time_s, angles_rad, torso_quat, robot, period_s)
@@ -567,12 +567,11 @@ def pd_compensated_targets(
     """(T, N) PD references for observed samples (``learn.pd_compensate.pd_references``), sent
     early by the command delay of ``world`` (``league`` or ours), as ``mimic train`` learns
     them."""
-    from mimic.league.world import LeagueWorld
     from mimic.learn.pd_compensate import pd_references
-    from mimic.world.base import CYCLE_S, World
+    from mimic.world.base import CYCLE_S, LEAGUE_COMMAND_DELAY_CYCLES, World
 
     refs = pd_references(time_s, angles_rad, torso_pos_m, torso_quat_wxyz, robot).references_rad
     # A reference acts from the cycle after it is sent (the league server: one cycle later
     # still): learn the one that acts mid-cycle, (delay + 0.5) cycles on.
-    delay = (LeagueWorld if world == "league" else World).command_delay_cycles
+    delay = LEAGUE_COMMAND_DELAY_CYCLES if world == "league" else World.command_delay_cycles
     return _interp_columns(time_s + (delay + 0.5) * CYCLE_S, time_s, refs)

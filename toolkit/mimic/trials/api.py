@@ -68,7 +68,7 @@ def check_variants(kind: str, specs: list[AgentSpec]) -> None:
     for spec in specs:
         options.finite(spec.speed_rate, "--speed-rate", above=0)
         if spec.kind == "model":
-            from mimic.learn.model_file import load_model
+            from mimic.model.model_file import load_model
 
             load_model(spec.ref)
         elif spec.kind == "motion":

@@ -76,7 +76,7 @@ def log_recording(rec: rr.RecordingStream, path: str | Path | Recording, *, mode
         )
         logged["ended"] = True
     if model is not None:
-        from mimic.learn.model_file import load_model
+        from mimic.model.model_file import load_model
 
         loaded = load_model(model) if isinstance(model, (str, Path)) else model
         if loaded.robot != robot.name:
@@ -217,7 +217,7 @@ def view_recording(
     leaves no file and an existing ``save`` untouched. ``overwrite`` False refuses to replace
     an existing ``save``.
     """
-    from mimic.learn.model_file import load_model
+    from mimic.model.model_file import load_model
 
     recording = read_recording(path)
     loaded = load_model(model) if model is not None else None

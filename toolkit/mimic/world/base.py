@@ -25,6 +25,11 @@ __all__ = ["World", "Observation", "CYCLE_S", "BodyPoses", "POSTURES", "posture_
 CYCLE_S = 0.02
 #: How a robot can be put down: standing, or lying on its front or back (get-ups).
 POSTURES = ("standing", "lying_front", "lying_back")
+#: Cycles by which the league server applies a command later than our world does: its parallel
+#: loop acts on an answer to a perception one cycle later, so a step in a reference shows two
+#: cycles after it was sent, not one (``World.command_delay_cycles`` of ``LeagueWorld`` and
+#: ``LeagueLikeWorld``; ``mimic train`` sends references early by it).
+LEAGUE_COMMAND_DELAY_CYCLES = 1
 
 
 def posture_quat(yaw_rad: float, posture: str) -> np.ndarray:

@@ -12,6 +12,7 @@ from __future__ import annotations
 import mujoco
 
 from mimic.robot.actuators import JointCommand
+from mimic.world.base import LEAGUE_COMMAND_DELAY_CYCLES
 from mimic.world.mujoco_world import MujocoWorld
 
 __all__ = ["LeagueLikeWorld"]
@@ -20,7 +21,7 @@ __all__ = ["LeagueLikeWorld"]
 class LeagueLikeWorld(MujocoWorld):
     """``MujocoWorld`` with the league server's solver options and one cycle of command delay."""
 
-    command_delay_cycles = 1
+    command_delay_cycles = LEAGUE_COMMAND_DELAY_CYCLES
 
     def __init__(self, robot="t1", **kwargs) -> None:
         super().__init__(robot, **kwargs)

@@ -1,10 +1,11 @@
-"""The T1 team as a league team process: speaks only the protocol.
+"""The T1 other team (``agents.other_team_t1``) as a league team process: speaks only the
+protocol.
 
 Examples::
 
-    python -m mimic.agents.other_team_t1 --server localhost:60000 --team Others --player 2
-    python -m mimic.agents.other_team_t1 --server localhost:60000 --walk-s 8   # then stop
-    python -m mimic.agents.other_team_t1 --kick --server localhost:60000
+    python -m mimic.league.other_team_t1 --server localhost:60000 --team Others --player 2
+    python -m mimic.league.other_team_t1 --server localhost:60000 --walk-s 8   # then stop
+    python -m mimic.league.other_team_t1 --kick --server localhost:60000
 
 Without ``--server`` it hosts a server of its own (as ``mimic play`` does). The walk stops on
 command: after ``--walk-s`` seconds it ramps its steps down and stands (then the process ends);
@@ -17,7 +18,9 @@ import argparse
 import sys
 
 from mimic.agents.base import Agent, JointCommand
+from mimic.agents.other_team_t1 import make_kick, make_walk
 from mimic.errors import MimicError
+from mimic.league.play import play
 from mimic.world.base import Observation
 
 __all__ = ["main", "StopAfter"]
@@ -47,7 +50,7 @@ class StopAfter(Agent):
 
 def _parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
-        prog="python -m mimic.agents.other_team_t1", description=__doc__.split("\n\n")[0]
+        prog="python -m mimic.league.other_team_t1", description=__doc__.split("\n\n")[0]
     )
     parser.add_argument("--server", help="the server's agent port HOST:PORT (default: host one)")
     parser.add_argument("--team", default="Others", help="team name (default: Others)")
@@ -64,9 +67,6 @@ def _parser() -> argparse.ArgumentParser:
 def main(argv: list[str] | None = None) -> int:
     """Run the team process; returns the exit code (0 done or time up, 130 Ctrl-C)."""
     args = _parser().parse_args(argv)
-    from mimic.agents.other_team_t1 import make_kick, make_walk
-    from mimic.league.play import play
-
     try:
         if args.kick:
             agent: Agent = make_kick()

@@ -4,7 +4,7 @@ Entries:
   ``meta.json``   format tag and version, robot and its joint order, input kind and mapping,
                   network shape, preset, training metrics, source recording metadata,
                   toolkit version;
-  ``params.npy``  (P,) float32 parameters in ``mimic.learn.network.Layout`` order;
+  ``params.npy``  (P,) float32 parameters in ``mimic.model.network.Layout`` order;
   ``output_mean.npy``, ``output_std.npy``  (N + 1,) output de-standardisation.
 Files written before robots were data have no ``robot``: they are our NAO's.
 A few kilobytes for the study's network; ``unzip -p model.mimic meta.json`` shows what it is.
@@ -23,8 +23,8 @@ import numpy as np
 from mimic import __version__
 from mimic.errors import MimicError, ModelFileError
 from mimic.files import atomic_output, input_file
-from mimic.learn.model import MotionModel
-from mimic.learn.network import Layout
+from mimic.model.motion_model import MotionModel
+from mimic.model.network import Layout
 from mimic.robot.registry import DEFAULT_ROBOT, get_robot
 
 __all__ = [
@@ -252,7 +252,7 @@ def _check_meta(path: Path, meta: dict) -> None:
     Raises:
         ModelFileError: a field missing or of the wrong type or range.
     """
-    from mimic.learn.model import INPUT_PHASE, INPUT_TIME
+    from mimic.model.motion_model import INPUT_PHASE, INPUT_TIME
 
     def bad(field: str, want: str) -> ModelFileError:
         shown = json.dumps(meta.get(field), default=str)

@@ -8,7 +8,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from mimic.learn.network import LEAKY_SLOPE, Layout
+from mimic.model.network import LEAKY_SLOPE, Layout
 from mimic.robot.registry import DEFAULT_ROBOT, get_robot
 
 __all__ = ["MotionModel", "INPUT_TIME", "INPUT_PHASE"]
