@@ -490,8 +490,8 @@ def test_mimic_leaves_just_after_a_message_with_a_half_close():
     def serve() -> None:
         peer, _ = listener.accept()
         frame = b"(RSMP 1 0)"
-        for _ in range(3):  # unread when the client leaves
-            peer.sendall(struct.pack(">I", len(frame)) + frame)
+        # Three at once (one segment): the client reads one, two wait unread when it leaves.
+        peer.sendall((struct.pack(">I", len(frame)) + frame) * 3)
         seen["eof_before_next"] = bool(select_readable(peer, 0.5) and not peer.recv(1))
         seen["next_sent"] = time.monotonic()
         peer.sendall(struct.pack(">I", len(frame)) + frame)
