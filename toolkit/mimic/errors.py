@@ -5,7 +5,14 @@ The CLI turns any ``MimicError`` into one line on stderr and a non-zero exit.
 
 from __future__ import annotations
 
-__all__ = ["MimicError", "RecordingError", "ModelFileError", "MotionFileError", "DatasetError"]
+__all__ = [
+    "MimicError",
+    "RecordingError",
+    "ModelFileError",
+    "MotionFileError",
+    "DatasetError",
+    "UnknownJointError",
+]
 
 
 class MimicError(Exception):
@@ -28,3 +35,10 @@ class MotionFileError(MimicError):
 
 class DatasetError(MimicError):
     """Training data that cannot make a dataset (empty, too short, NaN, wrong joints)."""
+
+
+class UnknownJointError(MimicError, KeyError):
+    """A joint name the robot does not have."""
+
+    def __str__(self) -> str:  # KeyError quotes its message; we want a plain sentence.
+        return str(self.args[0])

@@ -18,6 +18,7 @@ import numpy as np
 from mimic.agents.hold import HoldPose
 from mimic.agents.keyframe_player import KeyframePlayer
 from mimic.episode import PoseNoise, Scene, UprightLog, run
+from mimic.episode.scene import SETTLE_S
 from mimic.errors import MotionFileError
 from mimic.motion.files import load_motion
 from mimic.motion.keyframe import Movement
@@ -156,7 +157,7 @@ def run_getup(
     *,
     perturbation: Perturbation = Perturbation(),
     lying_pose_rad: np.ndarray | None = None,
-    settle_s: float = 0.5,
+    settle_s: float = SETTLE_S,
     after_s: float = 1.0,
     world: World | None = None,
 ) -> GetupOutcome:

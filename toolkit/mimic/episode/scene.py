@@ -17,10 +17,12 @@ from mimic.agents.hold import HoldPose
 from mimic.episode.run import run
 from mimic.world.base import POSTURES, World
 
-__all__ = ["Scene", "PoseNoise", "Placement", "BALL_ASIDE_M"]
+__all__ = ["Scene", "PoseNoise", "Placement", "BALL_ASIDE_M", "SETTLE_S"]
 
 #: Where the ball waits when a scene does not use it: this far to the robot's left [m].
 BALL_ASIDE_M = 3.0
+#: How long a placed robot settles before the agent starts [s] (every scene's default).
+SETTLE_S = 0.5
 
 
 @dataclass(frozen=True)
@@ -107,7 +109,7 @@ class Scene:
     ball_offset_m: tuple[float, float] | None = None
     ball_xy_m: tuple[float, float] | None = None
     ball_after_settle: bool = False
-    settle_s: float = 0.5
+    settle_s: float = SETTLE_S
     settle_into_stand: bool = False
 
     def __post_init__(self) -> None:

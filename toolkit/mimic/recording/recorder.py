@@ -23,6 +23,7 @@ import numpy as np
 from mimic import __version__
 from mimic.agents.base import Agent
 from mimic.episode import Observer, Scene, run
+from mimic.episode.scene import SETTLE_S
 from mimic.errors import MimicError
 from mimic.geometry import quat_mul, rotate
 from mimic.recording import layout as L
@@ -46,7 +47,7 @@ class RecordConfig:
     start_y_m: float = 0.0
     start_yaw_rad: float = 0.0
     # Time to hold the stand pose before the motion starts [s].
-    settle_s: float = 0.5
+    settle_s: float = SETTLE_S
     # Upper bound on a one-shot recording without --duration [s] (a motion that never ends).
     max_duration_s: float = 60.0
     # Periods recorded for a cyclic agent without --duration.

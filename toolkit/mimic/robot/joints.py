@@ -15,6 +15,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from mimic.errors import UnknownJointError
+
 __all__ = [
     "Joint",
     "JOINTS",
@@ -106,13 +108,6 @@ NUM_JOINTS: int = len(JOINTS)
 JOINT_NAMES: tuple[str, ...] = tuple(j.name for j in JOINTS)
 SIM_NAMES: tuple[str, ...] = tuple(j.sim_name for j in JOINTS)
 _INDEX = {j.name: i for i, j in enumerate(JOINTS)} | {j.sim_name: i for i, j in enumerate(JOINTS)}
-
-
-class UnknownJointError(KeyError):
-    """A joint name that is neither canonical nor a simulator name."""
-
-    def __str__(self) -> str:  # KeyError quotes its message; we want a plain sentence.
-        return str(self.args[0])
 
 
 def joint_index(name: str) -> int:

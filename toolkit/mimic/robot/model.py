@@ -18,17 +18,10 @@ from pathlib import Path
 
 import numpy as np
 
-from mimic.errors import MimicError
+from mimic.errors import MimicError, UnknownJointError
 from mimic.robot.actuators import ActuatorModel
 
 __all__ = ["JointSpec", "LinkSpec", "RobotDescription", "UnknownJointError", "FallThresholds"]
-
-
-class UnknownJointError(MimicError, KeyError):
-    """A joint name the robot does not have."""
-
-    def __str__(self) -> str:  # KeyError quotes its message; we want a plain sentence.
-        return str(self.args[0])
 
 
 @dataclass(frozen=True)

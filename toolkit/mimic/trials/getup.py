@@ -20,6 +20,7 @@ from mimic.agents.hold import HoldPose
 from mimic.agents.registry import AgentSpec
 from mimic.episode import Episode, PoseNoise, PoseTrace, Scene, run
 from mimic.episode.observers import Observer, UprightLog
+from mimic.episode.scene import SETTLE_S
 from mimic.errors import MimicError
 from mimic.trials.worlds import open_world, world_kind
 from mimic.world.base import CYCLE_S
@@ -37,7 +38,7 @@ class GetupTrialConfig:
     # Side the robot lies on: ``front``, ``back``, or None: the side its get-up starts from.
     side: str | None = None
     # Time the robot lies still before the get-up starts [s].
-    settle_s: float = 0.5
+    settle_s: float = SETTLE_S
     # Longest the get-up may take before it counts as failed [s].
     timeout_s: float = 20.0
     # Time the robot holds the get-up's last reference after it is done [s].

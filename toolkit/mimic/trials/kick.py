@@ -20,7 +20,7 @@ import numpy as np
 
 from mimic.agents.registry import AgentSpec
 from mimic.episode import Episode, PoseNoise, PoseTrace, Scene
-from mimic.episode.scene import BALL_ASIDE_M
+from mimic.episode.scene import BALL_ASIDE_M, SETTLE_S
 from mimic.trials.worlds import MUJOCO, open_world, world_kind
 from mimic.world.base import World
 
@@ -127,7 +127,7 @@ def kick_scene(offset_m, config: KickTrialConfig, goal_x_m: float) -> Scene:
         robot_xy_m=(start_x - offset_m[0], -offset_m[1]),
         ball_offset_m=tuple(offset_m),
         ball_after_settle=True,
-        settle_s=0.5,
+        settle_s=SETTLE_S,
         settle_into_stand=True,
         noise=PoseNoise(
             position_m=config.start_noise_pos_m,
@@ -193,14 +193,10 @@ def _place_behind_ball(
     world.place_robot(x + noise[0], y + noise[1], yaw, pose)
     episode.falls.update(world)  # a robot lying before is standing now
     outcome = episode.run(
-        HoldPose(robot.stand_pose(), robot.name), max_s=_SETTLE_S, stop_when_done=False
+        HoldPose(robot.stand_pose(), robot.name), max_s=SETTLE_S, stop_when_done=False
     )
     world.place_ball(*ball)
     return "fell" if outcome == "fell" else "arrived"
-
-
-#: How long a placed robot settles into its stand before it kicks [s] (as a scene's start).
-_SETTLE_S = 0.5
 
 
 class _BallWatch:

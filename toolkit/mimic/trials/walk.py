@@ -14,6 +14,7 @@ import numpy as np
 
 from mimic.agents.registry import AgentSpec
 from mimic.episode import Episode, PoseNoise, PoseTrace, Scene
+from mimic.episode.scene import SETTLE_S
 from mimic.trials.worlds import LEAGUE, MUJOCO, open_world, world_kind
 from mimic.world import field as F
 
@@ -57,7 +58,7 @@ def walk_scene(config: WalkTrialConfig) -> Scene:
     """Standing on the start line facing the opponent goal, the ball out of the way."""
     return Scene(
         robot_xy_m=(config.course_m()[0], 0.0),
-        settle_s=0.5,
+        settle_s=SETTLE_S,
         settle_into_stand=True,
         noise=PoseNoise(
             position_m=config.start_noise_pos_m,

@@ -18,11 +18,22 @@ from mimic.robot.actuators import JointCommand
 from mimic.robot.model import RobotDescription
 from mimic.world.field import Field
 
-__all__ = ["World", "Observation", "CYCLE_S", "BodyPoses", "POSTURES", "posture_quat"]
+__all__ = [
+    "World",
+    "Observation",
+    "CYCLE_S",
+    "GRAVITY_M_S2",
+    "LEAGUE_COMMAND_DELAY_CYCLES",
+    "BodyPoses",
+    "POSTURES",
+    "posture_quat",
+]
 
 #: The agent cycle [s]: agents see the world and command the joints at 50 Hz, in both the
 #: study's simulator and the league's.
 CYCLE_S = 0.02
+#: Gravity in both worlds (MuJoCo's default, which the league's model keeps) [m/s^2].
+GRAVITY_M_S2 = 9.81
 #: How a robot can be put down: standing, or lying on its front or back (get-ups).
 POSTURES = ("standing", "lying_front", "lying_back")
 #: Cycles by which the league server applies a command later than our world does: its parallel

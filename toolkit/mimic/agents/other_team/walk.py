@@ -27,11 +27,10 @@ from mimic.agents.other_team.motor import LEG_IDX, legs_to_joints, servo_speeds,
 from mimic.agents.other_team.params import WalkParams
 from mimic.geometry import rot_y, rot_z
 from mimic.robot.nao import nao
-from mimic.world.base import CYCLE_S, Observation
+from mimic.world.base import CYCLE_S, GRAVITY_M_S2, Observation
 
-__all__ = ["OtherTeamWalk", "GRAVITY_M_S2"]
+__all__ = ["OtherTeamWalk"]
 
-GRAVITY_M_S2 = 9.81
 _MAX_AIM_RAD = 0.3
 # Share of the swing spent speeding up (and as much slowing down) on the trapezoidal profile.
 _SWING_RAMP = 0.2

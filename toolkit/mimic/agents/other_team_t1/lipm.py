@@ -17,9 +17,9 @@ from __future__ import annotations
 
 import math
 
-__all__ = ["GRAVITY_M_S2", "pendulum_rate_per_s", "advance", "sway", "swing"]
+from mimic.world.base import GRAVITY_M_S2
 
-GRAVITY_M_S2 = 9.81
+__all__ = ["pendulum_rate_per_s", "advance", "sway", "swing"]
 
 
 def pendulum_rate_per_s(height_m: float) -> float:

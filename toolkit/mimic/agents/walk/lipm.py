@@ -11,9 +11,9 @@ from __future__ import annotations
 
 import math
 
-__all__ = ["GRAVITY_M_S2", "pendulum_rate_per_s", "sagittal_fraction", "lateral_fraction"]
+from mimic.world.base import GRAVITY_M_S2
 
-GRAVITY_M_S2 = 9.81
+__all__ = ["pendulum_rate_per_s", "sagittal_fraction", "lateral_fraction"]
 
 
 def pendulum_rate_per_s(com_height_m: float) -> float:
