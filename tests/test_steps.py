@@ -6,6 +6,8 @@ steps found and learned as one cycle of its mean step pair (``mimic train --peri
 
 from __future__ import annotations
 
+import re
+
 import numpy as np
 import pytest
 from typer.testing import CliRunner
@@ -136,6 +138,7 @@ def test_train_prints_the_steps_and_refuses_a_multiple_of_the_cycle(
     )  # fmt: skip
     assert said.exit_code == 0, said.output
     assert "steps from the feet" in said.output and f"period {cycle_s:.3f} s" in said.output
+    assert re.search(r"s, -\d+ %/\+\d+ %\); period", said.output), said.output
     for multiple in (2, 3):
         said = runner.invoke(
             app,

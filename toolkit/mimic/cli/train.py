@@ -214,7 +214,7 @@ def register(app: typer.Typer) -> None:
                 console.print(
                     f"{d.name}: {steps['count']} steps from the feet, {steps['mean_s']:.3f} s "
                     f"mean, sd {steps['std_s']:.3f} s ({steps['min_s']:.2f}-"
-                    f"{steps['max_s']:.2f} s); period {d.period_s:.3f} s"
+                    f"{steps['max_s']:.2f} s, {_spread(steps)}); period {d.period_s:.3f} s"
                     + ("" if speed is None else f"; walked {speed:.3f} m/s"),
                     highlight=False,
                 )
@@ -324,3 +324,9 @@ def register(app: typer.Typer) -> None:
 
         for line in run(baseline_epochs=baseline_epochs, batch_k=batch).lines():
             console.print(line, highlight=False)
+
+
+def _spread(steps: dict) -> str:
+    """The shortest and the longest step against the mean: ``-22 %/+25 %``."""
+    mean = steps["mean_s"]
+    return f"{100 * (steps['min_s'] / mean - 1):+.0f} %/{100 * (steps['max_s'] / mean - 1):+.0f} %"
