@@ -129,16 +129,9 @@ class BalanceGains:
         return any((self.place_x, self.place_x_rate_s, self.place_y, self.place_y_rate_s))
 
 
-# Each robot's gains (a robot not listed starts with the NAO's). The T1's: CMA-ES (``cmaes``,
-# population 12) on symmetric compensated black-box copies of the T1 other team's walk
-# (``benchmarks/league_copies.py``, ``mimic train --symmetric``), each candidate walking 10 m
-# from a standing start in the league; score: speed, Y error beyond 0.2 m, falls. 13
-# generations over the tilt gains, the swing-hip share, the torso attitude terms, the heading
-# gains and the start ramp from the earlier defaults, then 9 with speed weighted 5x more, each
-# candidate on four copies from four recordings (one run each, new seeds every generation).
-# On seven copies the search never saw: no fall, 0.89-0.92 of the original's speed, Y 0.02-0.27
-# m. Gains searched on copies that were not symmetric fell on other copies: a copy replays its
-# recording's own leans and turns (docs/tuning-notes.md).
+# Each robot's gains (a robot not listed starts with the NAO's). How the T1's were searched and
+# what they do on copies the search never saw: docs/tuning-notes.md ("The balance layer on the
+# T1").
 _DEFAULT_GAINS: dict[str, BalanceGains] = {
     "nao": BalanceGains(),
     "t1": BalanceGains(
@@ -152,14 +145,9 @@ _DEFAULT_GAINS: dict[str, BalanceGains] = {
         torso_roll=0.96,
     ),
 }
-# One-shot motions (a kick) where a robot needs other gains than its walk. The T1's kick
-# copies fall sideways over the support foot while the kicking foot comes back (the torso
-# leaning 0.15 rad toward the support side 1.4 s in, where copies that stand lean 0.05); the
-# walk's roll gain holds too little of that. Roll 0.8 was picked on the black-box copies of
-# ``kick_right_copyable`` (league, seeds 301-320: four copies fell 2 times each, against 4;
-# one of them 0 in seeds 321-350, against 4), costing 2-4 % of the kick's distance; on 50
-# seeds not used in choosing it (351-400) that copy fell 3 times, the original 10. The other
-# terms are the walk's gains of that time (docs/tuning-notes.md).
+# One-shot motions (a kick) where a robot needs other gains than its walk (the T1's kick
+# copies fall sideways over the support foot while the kicking foot comes back); how they were
+# chosen: docs/tuning-notes.md ("The balance layer on the T1").
 _ONE_SHOT_GAINS: dict[str, BalanceGains] = {
     "t1": BalanceGains(pitch=0.21, roll=0.8, pitch_rate_s=0.084, roll_rate_s=0.19),
 }

@@ -3,7 +3,7 @@
 Both use the same network (Dense 75 -> LeakyReLU(0.3) -> Dense 50 -> LeakyReLU(0.3) ->
 Dense N + 1 for a robot's N joints and the ended flag; for our NAO 5123 parameters with the time
 input, 5198 with a cyclic motion's phase input (sin, cos)), full-batch Adam (0.9, 0.999, 1e-8)
-on the mean squared error. The ablation below is on the NAO.
+on the mean squared error.
 
 ``paper`` (the study): raw time [s] in, raw radians out, Keras-default init (glorot_uniform,
 zero biases), 30000 epochs at 1e-3 then 5000 each at 8e-4, 6e-4, 4e-4, 2e-4, Adam state reset
@@ -11,33 +11,15 @@ at every phase (50000 epochs).
 
 ``fast`` (default): time scaled to [-1, 1] over the motion, he_uniform init, learning rate
 1e-2 decayed in phases to 1e-4 (Adam reset per phase, as in the study), 25000 epochs; raw
-radians out. Ablation on the study kick (77 samples; mean (min-max) MAE over seeds 0-2, CPU
-seconds per model on this 2-core machine; each row changes one thing from ``fast``):
-
-| variant                                   | MAE rad                  | CPU s |
-|-------------------------------------------|--------------------------|-------|
-| fast (scaled time, he, 1e-2 -> 1e-4, 25k) | 0.0045 (0.0041-0.0051)   | 1.6   |
-| + outputs standardised per joint          | 0.0051 (0.0037-0.0071)   | 1.6   |
-| raw time in seconds (no input scaling)    | 0.0132 (0.0123-0.0144)   | 1.6   |
-| glorot_uniform init (Keras default)       | 0.0116 (0.0094-0.0145)   | 1.6   |
-| he init + first-layer kinks spread        | 0.0074 (0.0068-0.0083)   | 1.6   |
-| the study's LRs (1e-3 .. 2e-4), 25k       | 0.0150 (0.0137-0.0158)   | 1.6   |
-| 16k epochs (schedule shrunk)              | 0.0088 (0.0080-0.0098)   | 1.0   |
-| paper preset (50k, raw time, glorot)      | 0.0161 (seed 0)          | 3.1   |
-
-Why they help: raw seconds put every first-layer kink at t = 0 (zero biases) and give the
-first layer a tiny input range, so the kick's jump between its first two samples (0 -> 1.57
-rad in 20 ms) takes very long to fit; scaling time to [-1, 1] moves the kinks to mid-motion
-and evens out the gradient scale; He init keeps the activation scale through the LeakyReLU
-layers; a 10x larger LR reaches the fit in half the epochs. Output standardisation was tried
-and dropped (slightly worse on average, more seed spread), as was spreading the kinks.
+radians out. Why each of these, measured one at a time against the study's setup:
+``docs/tuning-notes.md`` ("Training presets").
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass, replace
 
-__all__ = ["Phase", "Preset", "PAPER", "FAST", "PRESETS", "get_preset", "FAST_ABLATION"]
+__all__ = ["Phase", "Preset", "PAPER", "FAST", "PRESETS", "get_preset"]
 
 
 @dataclass(frozen=True)
@@ -109,9 +91,6 @@ FAST = Preset(
 )
 
 PRESETS = {p.name: p for p in (PAPER, FAST)}
-
-#: The ablation behind ``FAST`` (see the module docstring).
-FAST_ABLATION = __doc__
 
 
 def get_preset(name: str) -> Preset:
