@@ -8,9 +8,10 @@ rcsssmj 0.2.1 ends its simulation when a send to a peer fails with anything but
 connects a monitor ``--connections`` times per way of leaving. Each connection reads three
 messages, takes 3 ms over the last (what ``mimic record --list`` does with a frame) and leaves:
 
-- ``at once``: half-close there and then, read until the server closes (mimic before);
-- ``after a message`` (``mimic.league.protocol.Connection.close``): drop what is unread, wait
-  for the next message, half-close at once, read until the server closes.
+- ``at once``: half-close there and then, read until the server closes (mimic before;
+  ``Connection.close(message_wait_s=0)``);
+- ``after a message`` (``Connection.close``, the default): drop what is unread, wait for the
+  next message, half-close at once, read until the server closes.
 
 A server that stopped is counted and started again. The two ways run one after the other on
 servers of their own, so a busy machine weighs on both alike.
@@ -19,7 +20,6 @@ servers of their own, so a busy machine weighs on both alike.
 from __future__ import annotations
 
 import argparse
-import select
 import shutil
 import socket
 import subprocess
@@ -28,7 +28,7 @@ import tempfile
 import time
 from pathlib import Path
 
-from mimic.league.protocol import Connection, connect
+from mimic.league.protocol import connect
 
 
 def _free_port_pair() -> int:
@@ -59,20 +59,6 @@ def _start(port: int, log: Path) -> subprocess.Popen:
     sys.exit(f"error: rcssservermj did not listen on {port + 1} within 60 s (log: {log})")
 
 
-def _leave_at_once(conn: Connection) -> None:
-    sock = conn._sock
-    try:
-        sock.shutdown(socket.SHUT_WR)
-        deadline = time.monotonic() + 1.0
-        while (left := deadline - time.monotonic()) > 0:
-            ready, _, _ = select.select([sock], [], [], left)
-            if ready and not sock.recv(1 << 20):
-                break
-    except OSError:
-        pass
-    sock.close()
-
-
 def stops(way: str, connections: int, log: Path) -> int:
     """Server stops in ``connections`` monitor connections that leave ``way``."""
     port = _free_port_pair()
@@ -84,7 +70,7 @@ def stops(way: str, connections: int, log: Path) -> int:
                 for _ in range(3):
                     conn.receive(timeout_s=5.0)
                 time.sleep(0.003)
-                _leave_at_once(conn) if way == "at once" else conn.close()
+                conn.close(message_wait_s=0.0 if way == "at once" else 0.2)
             except Exception:  # noqa: BLE001 - a stopped server is counted below
                 pass
             time.sleep(0.05)

@@ -20,6 +20,7 @@ from mimic.errors import MimicError
 from mimic.geometry import yaw_from_quat
 from mimic.robot.model import RobotDescription
 from mimic.robot.registry import get_robot
+from mimic.world.mujoco_world import MujocoWorld
 
 __all__ = ["FootKinematics"]
 
@@ -32,8 +33,6 @@ class FootKinematics:
     robot's own MuJoCo model (kinematics only)."""
 
     def __init__(self, robot: RobotDescription | str) -> None:
-        from mimic.world.mujoco_world import MujocoWorld
-
         self.robot = get_robot(robot)
         world = MujocoWorld(self.robot)
         self.model, self.data = world.model, mujoco.MjData(world.model)
