@@ -10,10 +10,11 @@ Every step is a command a user types (the README's "Learn a walk that never repe
    plays it for 25 s from where the server puts it (a real team's client plays here instead:
    ``--agent`` names any agent ``mimic play`` takes; for a team of your own, record it with
    the first two commands and pass ``--recording``).
-2. ``mimic train`` three ways on its steady part (4-24 s): the study's method (time in,
+2. ``mimic train`` four ways on its steady part (4-24 s): the study's method (time in,
    the reached angles), one fixed period found in the angles (``--period auto --symmetric``),
-   and each step timed on its own (``--period steps --symmetric``). A way that refuses the
-   recording is a row of its own, with its reason.
+   each step timed on its own (``--period steps --symmetric``), and that with its references
+   fitted in a simulation of the copy (``--fit-in-sim 6``). A way that refuses the recording
+   is a row of its own, with its reason.
 3. ``mimic trial walk --compare AGENT COPIES --world league --robot t1 --runs R --seed S``:
    10 m from a standing start, the copies inside the balance layer (the study's without).
 
@@ -45,6 +46,12 @@ WAYS = (
     ("the study's method", "study.mimic", ("--target", "reached"), ""),
     ("one fixed period", "fixed.mimic", ("--period", "auto", "--symmetric"), "+balance"),
     ("each step on its own", "steps.mimic", ("--period", "steps", "--symmetric"), "+balance"),
+    (
+        "each step, fitted in simulation",
+        "fitted.mimic",
+        ("--period", "steps", "--symmetric", "--fit-in-sim", "6"),
+        "+balance",
+    ),
 )
 
 
@@ -131,7 +138,8 @@ def main() -> None:
         if done.returncode != 0:
             refused.append(f"{name}: refused: {lines[-1] if lines else done.returncode}")
             continue
-        print("\n".join(f"  {line}" for line in lines if "steps from the feet" in line))
+        said = ("steps from the feet", "fitted in the")
+        print("\n".join(f"  {line}" for line in lines if any(s in line for s in said)))
         variants.append(f"{path}{suffix}")
     trial = _run(
         MIMIC, "trial", "walk", "--compare", *variants, "--world", "league", "--robot", "t1",

@@ -141,6 +141,16 @@ def register(app: typer.Typer) -> None:
                 "or truncated recording, a motion that never ends).",
             ),
         ] = False,
+        fit_in_sim: Annotated[
+            int,
+            typer.Option(
+                "--fit-in-sim",
+                metavar="ROUNDS",
+                help="A walk: fit its references in a simulation of the copy (league robots: "
+                "the league-like world) over this many rounds, until its joints follow the "
+                "recording's, and train again on them (0: off; 6 is typical).",
+            ),
+        ] = 0,
         rerun: Annotated[
             bool, typer.Option("--rerun", help="Stream loss curves to Rerun.")
         ] = False,
@@ -149,15 +159,19 @@ def register(app: typer.Typer) -> None:
         force: Annotated[bool, FORCE] = False,
     ) -> None:
         """Learn motions as neural networks (one model per input, or one from all with --merge)."""
+        from mimic import options
         from mimic.errors import DatasetError, MimicError
         from mimic.files import check_outputs
         from mimic.learn.checks import fit_warnings, input_warnings
         from mimic.learn.dataset import NON_REPEATING_RAD
         from mimic.learn.presets import get_preset
-        from mimic.learn.train import TrainConfig, train_models, training_dataset
+        from mimic.learn.train import TrainConfig, training_dataset
         from mimic.model.model_file import SUFFIX, save_model
 
         save = save_path(save, save_old)
+        options.count(fit_in_sim, "--fit-in-sim", at_least=0)
+        if fit_in_sim and merge:
+            raise MimicError("--fit-in-sim fits a walk; --merge pools one-shot motions")
         if rerun:
             from mimic.viz.display import require_viewer
 
@@ -229,6 +243,13 @@ def register(app: typer.Typer) -> None:
                     f"cycle (more than {NON_REPEATING_RAD} rad from its median at their phase)",
                     highlight=False,
                 )
+        if fit_in_sim:
+            for p, d in zip(inputs, datasets):
+                if d.period_s is None:
+                    raise MimicError(
+                        f"{p}: --fit-in-sim fits a walk, a cyclic motion: give --period "
+                        "(steps, auto or seconds)"
+                    )
         for warning in (w for d in datasets for w in input_warnings(d)):
             if strict:
                 raise DatasetError(f"{warning} (--strict refuses such input)")
@@ -241,37 +262,18 @@ def register(app: typer.Typer) -> None:
             from mimic.viz.training import TrainingCurves
 
             curves = TrainingCurves(spawn=rerun, save_rrd=save, overwrite=force)
-        total = config.schedule().epochs
         try:
-            with Progress(
-                TextColumn("training {task.description}"),
-                BarColumn(),
-                TextColumn("{task.completed}/{task.total} epochs"),
-                TextColumn("loss {task.fields[loss]:.2e}  MAE {task.fields[mae]:.4f} rad"),
-                TimeElapsedColumn(),
-                console=err_console,
-                transient=True,
-                disable=not err_console.is_terminal,  # no bar, no blank line in a pipe
-            ) as bar:
-                task = bar.add_task(
-                    ", ".join(d.name for d in datasets),
-                    total=total,
-                    loss=float("nan"),
-                    mae=float("nan"),
-                )
-
-                def progress(p) -> None:
-                    bar.update(
-                        task,
-                        completed=p.epoch,
-                        description=", ".join(p.names),
-                        loss=float(p.loss.max()),
-                        mae=float(p.mae_rad.max()),
-                    )
-                    if curves is not None:
-                        curves(p)
-
-                models = train_models(datasets, config, progress)
+            models = _train_with_bar(datasets, config, curves)
+            if fit_in_sim:
+                cut = dict(start_s=start, end_s=end, period=period, symmetric=symmetric)
+                fitted = [
+                    _fitted(m, d, p, fit_in_sim, seed, cut)
+                    for m, d, p in zip(models, datasets, inputs)
+                ]
+                datasets = [d for d, _ in fitted]
+                for d, fit in fitted:
+                    console.print(f"{d.name}: {fit.describe()}", highlight=False)
+                models = _train_with_bar(datasets, config, curves)
         except BaseException:
             if curves is not None:
                 curves.discard()
@@ -324,6 +326,70 @@ def register(app: typer.Typer) -> None:
 
         for line in run(baseline_epochs=baseline_epochs, batch_k=batch).lines():
             console.print(line, highlight=False)
+
+
+def _train_with_bar(datasets, config, curves):
+    """``train_models`` under a progress bar (and the loss curves, if any)."""
+    from mimic.learn.train import train_models
+
+    with Progress(
+        TextColumn("training {task.description}"),
+        BarColumn(),
+        TextColumn("{task.completed}/{task.total} epochs"),
+        TextColumn("loss {task.fields[loss]:.2e}  MAE {task.fields[mae]:.4f} rad"),
+        TimeElapsedColumn(),
+        console=err_console,
+        transient=True,
+        disable=not err_console.is_terminal,  # no bar, no blank line in a pipe
+    ) as bar:
+        task = bar.add_task(
+            ", ".join(d.name for d in datasets),
+            total=config.schedule().epochs,
+            loss=float("nan"),
+            mae=float("nan"),
+        )
+
+        def progress(p) -> None:
+            bar.update(
+                task,
+                completed=p.epoch,
+                description=", ".join(p.names),
+                loss=float(p.loss.max()),
+                mae=float(p.mae_rad.max()),
+            )
+            if curves is not None:
+                curves(p)
+
+        return train_models(datasets, config, progress)
+
+
+def _fitted(model, dataset, path: Path, rounds: int, seed: int, cut: dict):
+    """(the training dataset with the references fitted in simulation, the fit): the walk
+    replayed ``rounds`` times (``improve.sim_fit``) against the recording's reached angles."""
+    from mimic.improve.sim_fit import SimFitConfig, fit_in_simulation, fitted_dataset
+    from mimic.learn.train import TARGET_REACHED, training_dataset
+    from mimic.recording.layout import JOINT_STATES
+
+    recorded = training_dataset(path, **{**cut, "topic": JOINT_STATES}, target=TARGET_REACHED)
+    with Progress(
+        TextColumn(f"fitting {dataset.name} in simulation"),
+        BarColumn(),
+        TextColumn("{task.completed}/{task.total} walks  {task.fields[said]}"),
+        TimeElapsedColumn(),
+        console=err_console,
+        transient=True,
+        disable=not err_console.is_terminal,
+    ) as bar:
+        task = bar.add_task("fit", total=rounds + 1, said="")
+
+        def progress(r) -> None:
+            said = f"{r.rms_rad:.3f} rad rms, {r.speed_m_s:.3f} m/s" + (" fell" if r.fell else "")
+            bar.update(task, advance=1, said=said)
+
+        fit = fit_in_simulation(
+            model, recorded, SimFitConfig(rounds=rounds, seed=seed), progress=progress
+        )
+    return fitted_dataset(dataset, fit), fit
 
 
 def _spread(steps: dict) -> str:

@@ -1,0 +1,363 @@
+"""A learned walk's references fitted in a simulation of the copy, until its joints follow the
+recording (``mimic train --fit-in-sim ROUNDS``).
+
+A copy of a PD-motor robot's walk learns references reconstructed from the angles it reached
+(``learn.pd_compensate``). Those are biased: on the T1 other team's walk, where the true
+references are known, they miss them by 0.035-0.04 rad rms, the hip pitch's swing 6 % too
+small. The copy then walks short, and a speed hold buys the difference with cadence, up to the
+cadence where the copy falls (``docs/real-team-walk.md``). What the copy *reaches* can be seen
+where it plays, so the references are corrected there, as iterative learning control does:
+
+1. The copy walks in a simulated world (the league-like one for league robots), inside the
+   balance layer, at its learned phase rate (the speed hold off: the recording's step timing).
+   After its start-up every cycle's reached angles are logged by phase.
+2. Binned over the cycle (``phase_bins``), the reached angles' median is compared with the
+   recording's at the same phase; the error, made left-right symmetric for a symmetric copy
+   and smoothed over the neighbouring bins, is added to the correction times ``gain``.
+3. A round whose walk fell is undone and the gain halved. A joint whose error the round made
+   larger gets its correction back and half its gain (light joints that the walk swings, like
+   the head, answer a correction late and would drift off). The samples of the last
+   ``fall_margin_s`` before a fall are left out of every comparison.
+
+After ``rounds`` rounds the correction of the round that came closest to the recording
+without falling is kept (the copy as learned, round 0, at worst): ``SimFit.at_phase`` gives it
+at any phase, and ``fitted_dataset`` adds it to the training targets, so the network is
+trained again on them and stays an ordinary model (ONNX export, ``mimic improve``).
+
+It corrects the mean cycle only: what the recording's walk did differently from step to step
+stays out of the copy, as it does in the step-phase copy itself.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass, fields, replace
+
+import numpy as np
+
+from mimic.agents.balance import BalancedAgent
+from mimic.agents.base import Agent, JointCommand
+from mimic.agents.neural_player import NeuralPlayer
+from mimic.errors import MimicError
+from mimic.learn.dataset import Dataset
+from mimic.model.motion_model import MotionModel
+from mimic.robot.registry import get_robot
+from mimic.trials.walk import WalkTrialConfig, run_walk_episode
+from mimic.trials.worlds import LEAGUE_LIKE, MUJOCO
+from mimic.world.base import Observation
+
+__all__ = [
+    "SimFitConfig",
+    "SimFitRound",
+    "SimFit",
+    "SIM_FIT_KEY",
+    "fit_in_simulation",
+    "fitted_dataset",
+    "sim_fit_world",
+]
+
+#: Where a model trained on fitted references records the fit (``SimFit.summary``).
+SIM_FIT_KEY = "sim_fit"
+
+
+@dataclass(frozen=True)
+class SimFitConfig:
+    """How a walk's references are fitted in simulation (module docstring)."""
+
+    # Rounds of correction (each one walk in the simulated world, and one more to check the
+    # last).
+    rounds: int = 6
+    # Share of the reached angles' error added to the correction each round. 0.7 overshot
+    # on the first round (the T1 stand-in fell); 0.3 converged in 4-6.
+    gain: float = 0.3
+    # Bins the cycle is cut into to compare reached and recorded angles (at 25 Hz a
+    # 0.75 s cycle holds 19 samples a cycle, about 30 cycles a walk: 10 samples a bin).
+    phase_bins: int = 50
+    # Weights of the circular smoothing over neighbouring bins (centred, sum 1).
+    smoothing: tuple[float, ...] = (0.1, 0.2, 0.4, 0.2, 0.1)
+    # Samples this long before a fall are not compared [s] (the fall is not the walk).
+    fall_margin_s: float = 1.0
+    # The first round's episode seed (round k plays seed + k): the start pose's noise.
+    seed: int = 0
+    # Walk inside the balance layer (``agents.balance``), as copies are played in trials.
+    balance: bool = True
+
+    def __post_init__(self) -> None:
+        if self.rounds < 1:
+            raise MimicError(f"fitting in simulation needs 1 round at least, got {self.rounds}")
+        if not 0 < self.gain <= 1:
+            raise MimicError(f"the fit's gain must lie in (0, 1], got {self.gain}")
+
+
+@dataclass(frozen=True)
+class SimFitRound:
+    """One walk of the fit: the correction it played, what it reached.
+
+    Attributes:
+        index: 0 for the copy as learned, k after k corrections.
+        rms_rad: the reached angles' rms error against the recording's, over the bins [rad].
+        speed_m_s: the walk's forward speed at the learned phase rate [m/s].
+        fell: the walk fell (the correction it played is undone).
+    """
+
+    index: int
+    rms_rad: float
+    speed_m_s: float
+    fell: bool
+
+
+@dataclass(frozen=True)
+class SimFit:
+    """The correction found, per phase bin, and how the rounds went.
+
+    Attributes:
+        correction_rad: (B, N) added to the references at the centres of B bins of the cycle
+            [rad], the model's joint order.
+        rounds: every round played, in order.
+        kept: the round whose correction is ``correction_rad``: the one that came closest to
+            the recording without falling.
+        world: where the copy walked.
+    """
+
+    correction_rad: np.ndarray
+    rounds: tuple[SimFitRound, ...]
+    kept: int
+    world: str
+
+    def at_phase(self, phase: np.ndarray) -> np.ndarray:
+        """(T, N) the correction at phases (T,) in cycles (any real; taken modulo 1) [rad],
+        interpolated linearly around the cycle between bin centres."""
+        return _periodic_interp(self.correction_rad, np.asarray(phase, float))
+
+    @property
+    def first(self) -> SimFitRound:
+        return self.rounds[0]
+
+    @property
+    def best(self) -> SimFitRound:
+        return self.rounds[self.kept]
+
+    def summary(self) -> dict:
+        """JSON-able facts for the model's metadata (``SIM_FIT_KEY``)."""
+        return {
+            "world": self.world,
+            "rounds": len(self.rounds) - 1,
+            "kept_round": self.kept,
+            "rms_rad": [round(self.first.rms_rad, 4), round(self.best.rms_rad, 4)],
+            "speed_m_s": [round(self.first.speed_m_s, 4), round(self.best.speed_m_s, 4)],
+            "largest_correction_rad": round(float(np.abs(self.correction_rad).max()), 4),
+        }
+
+    def describe(self) -> str:
+        """One line: what the fit changed."""
+        return (
+            f"fitted in the {self.world} world, {len(self.rounds) - 1} rounds (kept "
+            f"{self.kept}): joints {self.first.rms_rad:.3f} -> {self.best.rms_rad:.3f} rad rms "
+            f"from the recording; walked {self.first.speed_m_s:.3f} -> "
+            f"{self.best.speed_m_s:.3f} m/s at the learned rate"
+        )
+
+
+def sim_fit_world(robot: str) -> str:
+    """The simulated world a robot's copy is fitted in: the league-like one for league robots
+    (``world.league_like``), ours for the rest."""
+    return LEAGUE_LIKE if get_robot(robot).world == "league" else MUJOCO
+
+
+def fit_in_simulation(
+    model: MotionModel,
+    recorded: Dataset,
+    config: SimFitConfig = SimFitConfig(),
+    *,
+    world: str | None = None,
+    progress: Callable[[SimFitRound], None] | None = None,
+) -> SimFit:
+    """The correction that makes ``model``'s walk reach the angles of ``recorded``.
+
+    Args:
+        model: a cyclic model (a walk) learned from the recording.
+        recorded: the recording's reached angles as a cyclic dataset of the model's period
+            (``training_dataset(..., target="reached")`` with the model's ``--period``).
+        world: where the copy walks (default: ``sim_fit_world``).
+        progress: called after every round.
+
+    Raises:
+        MimicError: the model is not cyclic, or the recording's cycle is not the model's.
+    """
+    if not model.cyclic:
+        raise MimicError(
+            f"{model.name}: fitting in simulation corrects a walk (a cyclic model, --period); "
+            "this one is a one-shot motion"
+        )
+    if recorded.period_s is None or not math.isclose(
+        recorded.period_s, model.period_s, rel_tol=1e-6
+    ):
+        raise MimicError(
+            f"{model.name}: the recording's cycle ({recorded.period_s} s) is not the model's "
+            f"({model.period_s:.4f} s); learn both with the same --period"
+        )
+    if tuple(recorded.joint_names) != tuple(model.joint_names):
+        raise MimicError(f"{model.name}: the recording's joints are not the model's")
+    world = world or sim_fit_world(model.robot)
+    bins = config.phase_bins
+    robot = get_robot(model.robot)
+    target = _binned(_phase(recorded.time_s, model.period_s), recorded.angles_rad, bins)
+    correction = np.zeros((bins, model.num_joints))
+    kept_correction = correction
+    gains = np.full(model.num_joints, config.gain)
+    kept_error = kept_rms = step = None
+    rounds: list[SimFitRound] = []
+    played: list[np.ndarray] = []  # the correction each round walked
+    for index in range(config.rounds + 1):
+        played.append(correction)
+        walked = _walk(model, correction, world, config, config.seed + index)
+        error = target - _binned(walked.phase, walked.angles_rad, bins)
+        rms = float(np.sqrt(np.nanmean(error**2)))
+        if walked.fell and index > 0:
+            gains *= 0.5  # undone: the kept correction's step again, smaller
+        else:
+            joint_rms = np.sqrt(np.nanmean(error**2, axis=0))
+            if kept_rms is not None:
+                # A joint the last step moved away from the recording (a light joint that
+                # the walk's motion swings, like the head, answers late) takes it back, and
+                # steps at half the gain from then on.
+                worse = joint_rms > kept_rms
+                correction = np.where(worse, kept_correction, correction)
+                error[:, worse], joint_rms[worse] = kept_error[:, worse], kept_rms[worse]
+                gains[worse] *= 0.5
+            kept_correction, kept_error, kept_rms = correction, error, joint_rms
+            step = np.nan_to_num(error)  # a bin the walk never reached gets no correction
+            if recorded.metadata.get("symmetric"):
+                step = 0.5 * (step + robot.mirror_angles(np.roll(step, -(bins // 2), axis=0)))
+            step = _smooth(step, config.smoothing)
+        correction = kept_correction + gains * step
+        rounds.append(SimFitRound(index, rms, walked.speed_m_s, walked.fell))
+        if progress is not None:
+            progress(rounds[-1])
+    # The round that came closest to the recording without falling (round 0, the copy as
+    # learned, at worst): a step that helped one joint may have cost the walk more elsewhere.
+    best = min([r for r in rounds if not r.fell] or rounds[:1], key=lambda r: r.rms_rad)
+    return SimFit(played[best.index], tuple(rounds), best.index, world)
+
+
+def fitted_dataset(dataset: Dataset, fit: SimFit) -> Dataset:
+    """``dataset`` (cyclic: the model's training data) with the fit's correction added to
+    every sample's references at its phase; ``metadata[SIM_FIT_KEY]`` says what the fit did."""
+    phase = _phase(dataset.time_s, dataset.period_s)
+    targets = dataset.targets.copy()
+    targets[:, : dataset.num_joints] += fit.at_phase(phase)
+    return replace(
+        dataset, targets=targets, metadata={**dataset.metadata, SIM_FIT_KEY: fit.summary()}
+    )
+
+
+@dataclass(frozen=True)
+class _Walked:
+    phase: np.ndarray  # (T,) the played phase of each logged cycle [cycles]
+    angles_rad: np.ndarray  # (T, N) the angles reached then
+    speed_m_s: float
+    fell: bool
+
+
+def _walk(
+    model: MotionModel, correction: np.ndarray, world: str, config: SimFitConfig, seed: int
+) -> _Walked:
+    """One walk of the course in ``world``: the corrected model at its learned rate."""
+    log: list[tuple[float, float, np.ndarray]] = []
+    player = _LoggedPlayer(_CorrectedModel.of(model, correction), log)
+    agent = BalancedAgent(player) if config.balance else player
+    row = run_walk_episode(_Built(model.robot, agent), seed, WalkTrialConfig(world=world))[0][0]
+    if row["fell"] and log:
+        last_s = log[-1][0]
+        log = [entry for entry in log if entry[0] < last_s - config.fall_margin_s]
+    if not log:
+        raise MimicError(
+            f"{model.name} fell before its start-up ended in the {world} world: there is no "
+            "walk to fit (try it with mimic play, or learn it without --fit-in-sim)"
+        )
+    return _Walked(
+        np.array([e[1] for e in log]),
+        np.array([e[2] for e in log]),
+        float(row["speed_m_s"]),
+        bool(row["fell"]),
+    )
+
+
+@dataclass
+class _CorrectedModel(MotionModel):
+    """A cyclic model whose references get a per-phase correction on top (no retraining)."""
+
+    correction_rad: np.ndarray | None = None
+
+    @classmethod
+    def of(cls, model: MotionModel, correction_rad: np.ndarray) -> _CorrectedModel:
+        values = {f.name: getattr(model, f.name) for f in fields(MotionModel)}
+        return cls(**values, correction_rad=correction_rad)
+
+    def predict(self, time_s) -> np.ndarray:
+        out = super().predict(time_s)
+        scalar = out.ndim == 1
+        out = np.atleast_2d(out).copy()
+        phase = _phase(np.atleast_1d(np.asarray(time_s, float)), self.period_s)
+        out[:, : self.num_joints] += _periodic_interp(self.correction_rad, phase)
+        return out[0] if scalar else out
+
+
+class _LoggedPlayer(NeuralPlayer):
+    """A walk at its learned phase rate (no speed hold) that logs (time [s], phase [cycles],
+    reached angles [rad]) every cycle once its start-up is over."""
+
+    def __init__(self, model: MotionModel, log: list) -> None:
+        super().__init__(model)
+        self.speed_m_s = None  # the recording's step timing: the rate stays the learned one
+        self._log = log
+
+    def act(self, obs: Observation) -> JointCommand:
+        command = super().act(obs)
+        if self.swing_weight >= 1.0:
+            angles = np.asarray(obs.joint_angles_rad, float).copy()
+            self._log.append((obs.time_s, self.cycle_phase, angles))
+        return command
+
+
+@dataclass(frozen=True)
+class _Built:
+    """An agent already built, in the shape ``run_walk_episode`` takes (``AgentSpec``'s)."""
+
+    robot: str
+    agent: Agent
+
+    def build(self) -> Agent:
+        return self.agent
+
+
+def _phase(time_s: np.ndarray, period_s: float) -> np.ndarray:
+    return (np.asarray(time_s, float) % period_s) / period_s
+
+
+def _binned(phase: np.ndarray, values: np.ndarray, bins: int) -> np.ndarray:
+    """(bins, N) the median of ``values`` (T, N) in each bin of ``phase`` (T,) [cycles]; NaN
+    in a bin no sample fell in."""
+    index = np.floor(np.asarray(phase) * bins).astype(int) % bins
+    out = np.full((bins, values.shape[1]), np.nan)
+    for b in range(bins):
+        if (index == b).any():
+            out[b] = np.median(values[index == b], axis=0)
+    return out
+
+
+def _smooth(values: np.ndarray, weights: tuple[float, ...]) -> np.ndarray:
+    """(B, N) ``values`` smoothed around the cycle by the centred ``weights``."""
+    half = len(weights) // 2
+    return sum(w * np.roll(values, k - half, axis=0) for k, w in enumerate(weights))
+
+
+def _periodic_interp(table: np.ndarray, phase: np.ndarray) -> np.ndarray:
+    """(T, N) ``table`` (B, N, values at the B bin centres) at ``phase`` (T,) [cycles],
+    linear between centres, around the cycle."""
+    bins = len(table)
+    x = (np.asarray(phase, float) % 1.0) * bins - 0.5  # in bin-centre units
+    lo = np.floor(x).astype(int)
+    w = (x - lo)[:, None]
+    return (1 - w) * table[lo % bins] + w * table[(lo + 1) % bins]
