@@ -96,7 +96,8 @@ class SimFitRound:
 
     Attributes:
         index: 0 for the copy as learned, k after k corrections.
-        rms_rad: the reached angles' rms error against the recording's, over the bins [rad].
+        rms_rad: the reached angles' rms error against the recording's, over the bins [rad];
+            NaN for a walk that fell before its start-up ended.
         speed_m_s: the walk's forward speed at the learned phase rate [m/s].
         fell: the walk fell (the correction it played is undone).
     """
@@ -159,10 +160,14 @@ class SimFit:
         )
 
 
-def sim_fit_world(robot: str) -> str:
-    """The simulated world a robot's copy is fitted in: the league-like one for league robots
-    (``world.league_like``), ours for the rest."""
-    return LEAGUE_LIKE if get_robot(robot).world == "league" else MUJOCO
+def sim_fit_world(recorded: Dataset) -> str:
+    """The simulated world a recording's copy is fitted in: the league-like one
+    (``world.league_like``) for a walk recorded in the league, ours for one recorded in ours.
+    A recording that does not say where it was made goes by its robot's world."""
+    where = recorded.metadata.get("recording_world")
+    if where is None:
+        where = get_robot(recorded.robot).world
+    return LEAGUE_LIKE if where == "league" else MUJOCO
 
 
 def fit_in_simulation(
@@ -199,9 +204,10 @@ def fit_in_simulation(
         )
     if tuple(recorded.joint_names) != tuple(model.joint_names):
         raise MimicError(f"{model.name}: the recording's joints are not the model's")
-    world = world or sim_fit_world(model.robot)
+    world = world or sim_fit_world(recorded)
     bins = config.phase_bins
     robot = get_robot(model.robot)
+    symmetric = bool(recorded.metadata.get("symmetric"))
     target = _binned(_phase(recorded.time_s, model.period_s), recorded.angles_rad, bins)
     correction = np.zeros((bins, model.num_joints))
     kept_correction = correction
@@ -212,9 +218,16 @@ def fit_in_simulation(
     for index in range(config.rounds + 1):
         played.append(correction)
         walked = _walk(model, correction, world, config, config.seed + index)
-        error = target - _binned(walked.phase, walked.angles_rad, bins)
-        rms = float(np.sqrt(np.nanmean(error**2)))
-        if walked.fell and index > 0:
+        seen = len(walked.phase) > 0  # the walk got past its start-up
+        if not seen and index == 0:
+            raise MimicError(
+                f"{model.name} fell before its start-up ended in the {world} world: there is "
+                "no walk to fit (try it with mimic play, or learn it without --fit-in-sim)"
+            )
+        if seen:
+            error = target - _binned(walked.phase, walked.angles_rad, bins)
+        rms = float(np.sqrt(np.nanmean(error**2))) if seen else math.nan
+        if (walked.fell or not seen) and index > 0:
             gains *= 0.5  # undone: the kept correction's step again, smaller
         else:
             joint_rms = np.sqrt(np.nanmean(error**2, axis=0))
@@ -223,16 +236,18 @@ def fit_in_simulation(
                 # the walk's motion swings, like the head, answers late) takes it back, and
                 # steps at half the gain from then on.
                 worse = joint_rms > kept_rms
+                if symmetric:  # a joint and its mirror image go back together
+                    worse |= worse[robot.mirror_permutation]
                 correction = np.where(worse, kept_correction, correction)
                 error[:, worse], joint_rms[worse] = kept_error[:, worse], kept_rms[worse]
                 gains[worse] *= 0.5
             kept_correction, kept_error, kept_rms = correction, error, joint_rms
             step = np.nan_to_num(error)  # a bin the walk never reached gets no correction
-            if recorded.metadata.get("symmetric"):
+            if symmetric:
                 step = 0.5 * (step + robot.mirror_angles(np.roll(step, -(bins // 2), axis=0)))
             step = _smooth(step, config.smoothing)
         correction = kept_correction + gains * step
-        rounds.append(SimFitRound(index, rms, walked.speed_m_s, walked.fell))
+        rounds.append(SimFitRound(index, rms, walked.speed_m_s, walked.fell or not seen))
         if progress is not None:
             progress(rounds[-1])
     # The round that came closest to the recording without falling (round 0, the copy as
@@ -271,14 +286,9 @@ def _walk(
     if row["fell"] and log:
         last_s = log[-1][0]
         log = [entry for entry in log if entry[0] < last_s - config.fall_margin_s]
-    if not log:
-        raise MimicError(
-            f"{model.name} fell before its start-up ended in the {world} world: there is no "
-            "walk to fit (try it with mimic play, or learn it without --fit-in-sim)"
-        )
     return _Walked(
         np.array([e[1] for e in log]),
-        np.array([e[2] for e in log]),
+        np.array([e[2] for e in log]).reshape(len(log), model.num_joints),
         float(row["speed_m_s"]),
         bool(row["fell"]),
     )

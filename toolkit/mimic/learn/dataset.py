@@ -210,6 +210,8 @@ def _read_table(path: Path, topic: str | None):
                 agent=info.agent,
                 source_kind=info.source,
                 recording_seed=info.seed,
+                # Where it moved: ``nao`` (our MuJoCo world) or ``league`` (RCSSServerMJ).
+                recording_world=info.world,
                 recording_toolkit_version=info.toolkit_version,
             )
             if info.ball_offset_m is not None:
