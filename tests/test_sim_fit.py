@@ -16,12 +16,14 @@ from typer.testing import CliRunner
 from mimic.cli.main import app
 from mimic.errors import MimicError
 from mimic.improve.sim_fit import (
+    SENSITIVITY_RANGE,
     SIM_FIT_KEY,
     SimFit,
     SimFitConfig,
     SimFitRound,
     _binned,
     _periodic_interp,
+    _sensitivity,
     _smooth,
     fit_in_simulation,
     fitted_dataset,
@@ -54,8 +56,23 @@ def test_the_cycle_tables_bin_smooth_and_interpolate_around_the_cycle():
     assert np.allclose(_periodic_interp(table, centres), table)
     at_edge = _periodic_interp(table, np.array([0.0, 1.0, 2.0]))
     assert np.allclose(at_edge, 0.5 * (table[0] + table[-1]))
-    fit = SimFit(table, (SimFitRound(0, 0.1, 0.4, False),), 0, MUJOCO)
+    fit = SimFit(table, (SimFitRound(0, 0.1, 0.4, False, 10.0),), 0, MUJOCO)
     assert np.allclose(fit.at_phase(centres + 3), table)
+
+
+def test_the_sensitivity_is_the_share_of_a_step_that_a_joint_followed():
+    step = np.random.default_rng(0).normal(0, 0.02, (50, 4))
+    followed = np.array([0.5, 0.1, 1.3, 0.8])
+    # The error shrinks by what each joint followed of the step.
+    seen = _sensitivity(step, -step * followed, np.full(4, 0.7))
+    low, high = SENSITIVITY_RANGE
+    assert seen == pytest.approx([0.5, low, high, 0.8])
+    # A step too small to tell keeps what was known; a bin the walk never reached (NaN)
+    # counts as no change.
+    assert _sensitivity(step * 1e-3, -step * 1e-3, np.full(4, 0.7)) == pytest.approx(0.7)
+    change = -step * 0.5
+    change[0] = np.nan
+    assert _sensitivity(step, change, np.ones(4))[0] == pytest.approx(0.5, abs=0.05)
 
 
 def test_a_config_that_cannot_fit_is_refused():
@@ -105,7 +122,10 @@ def test_the_fit_brings_the_copys_joints_closer_to_the_recording(walk):
     league = replace(recorded, metadata={**recorded.metadata, "recording_world": "league"})
     assert sim_fit_world(league) == LEAGUE_LIKE
     seen = []
-    fit = fit_in_simulation(model, recorded, SimFitConfig(rounds=3), progress=seen.append)
+    # At the learned rate (the speed hold off): the copy's step timing stays the recording's,
+    # so what the rounds change is the correction alone.
+    config = SimFitConfig(rounds=3, speed_hold=False)
+    fit = fit_in_simulation(model, recorded, config, progress=seen.append)
     assert [r.index for r in seen] == [0, 1, 2, 3] and fit.rounds == tuple(seen)
     assert fit.world == MUJOCO
     # The kept round is one that walked, and it follows the recording more closely than the

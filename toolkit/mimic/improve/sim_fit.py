@@ -9,20 +9,30 @@ cadence where the copy falls (``docs/real-team-walk.md``). What the copy *reache
 where it plays, so the references are corrected there, as iterative learning control does:
 
 1. The copy walks in a simulated world (the league-like one for league robots), inside the
-   balance layer, at its learned phase rate (the speed hold off: the recording's step timing).
+   balance layer, holding the recording's speed by its phase rate, as copies are played.
    After its start-up every cycle's reached angles are logged by phase.
 2. Binned over the cycle (``phase_bins``), the reached angles' median is compared with the
    recording's at the same phase; the error, made left-right symmetric for a symmetric copy
-   and smoothed over the neighbouring bins, is added to the correction times ``gain``.
-3. A round whose walk fell is undone and the gain halved. A joint whose error the round made
-   larger gets its correction back and half its gain (light joints that the walk swings, like
-   the head, answer a correction late and would drift off). The samples of the last
-   ``fall_margin_s`` before a fall are left out of every comparison.
+   and smoothed over the neighbouring bins, is the next step of the correction, times
+   ``gain`` and divided by the joint's *sensitivity*.
+3. The sensitivity is the share of a step that the joint's reached angle followed, seen from
+   the last step (the error's change along the correction's change), within
+   ``SENSITIVITY_RANGE``. Inside the balance layer it is far from 1 for some joints: its
+   torso feedback turns the support hip against a change of the torso's pitch, and the hip
+   pitch followed a quarter to a half of its correction. On the T1 stand-in its swing, 18 %
+   short of the recording's, closed by a quarter in 4 rounds of the plain step, and wholly
+   in 8 divided by the sensitivity.
+4. A round whose walk fell (sooner than the kept one, if that fell too) is undone and the
+   gain halved. A joint whose error the round made larger gets its correction back and half
+   its gain (light joints that the walk swings, like the head, answer a correction late and
+   would drift off). The samples of the last ``fall_margin_s`` before a fall are left out of
+   every comparison.
 
 After ``rounds`` rounds the correction of the round that came closest to the recording
-without falling is kept (the copy as learned, round 0, at worst): ``SimFit.at_phase`` gives it
-at any phase, and ``fitted_dataset`` adds it to the training targets, so the network is
-trained again on them and stays an ordinary model (ONNX export, ``mimic improve``).
+without falling is kept (if every round fell, the one that walked farthest):
+``SimFit.at_phase`` gives it at any phase, and ``fitted_dataset`` adds it to the training
+targets, so the network is trained again on them and stays an ordinary model (ONNX export,
+``mimic improve``).
 
 It corrects the mean cycle only: what the recording's walk did differently from step to step
 stays out of the copy, as it does in the step-phase copy itself.
@@ -59,6 +69,12 @@ __all__ = [
 
 #: Where a model trained on fitted references records the fit (``SimFit.summary``).
 SIM_FIT_KEY = "sim_fit"
+#: The shares of a correction a joint is taken to follow, at least and at most: a step is
+#: at most four times the gain's.
+SENSITIVITY_RANGE = (0.25, 1.0)
+#: A correction step smaller than this (rms over the cycle) says nothing of a joint's
+#: sensitivity [rad].
+_TOLD_RMS_RAD = 1.4e-3
 
 
 @dataclass(frozen=True)
@@ -78,10 +94,14 @@ class SimFitConfig:
     smoothing: tuple[float, ...] = (0.1, 0.2, 0.4, 0.2, 0.1)
     # Samples this long before a fall are not compared [s] (the fall is not the walk).
     fall_margin_s: float = 1.0
-    # The first round's episode seed (round k plays seed + k): the start pose's noise.
+    # The episode seed of every round (the start pose's noise): one start for all, so that
+    # two rounds differ by their corrections alone (the simulated worlds are deterministic).
     seed: int = 0
     # Walk inside the balance layer (``agents.balance``), as copies are played in trials.
     balance: bool = True
+    # Hold the recording's speed by the phase rate, as copies are played: fitted at the
+    # learned rate, a copy walked there, then fell once the hold raised its rate.
+    speed_hold: bool = True
 
     def __post_init__(self) -> None:
         if self.rounds < 1:
@@ -98,14 +118,16 @@ class SimFitRound:
         index: 0 for the copy as learned, k after k corrections.
         rms_rad: the reached angles' rms error against the recording's, over the bins [rad];
             NaN for a walk that fell before its start-up ended.
-        speed_m_s: the walk's forward speed at the learned phase rate [m/s].
-        fell: the walk fell (the correction it played is undone).
+        speed_m_s: the walk's forward speed [m/s].
+        fell: the walk fell.
+        distance_m: how far it walked (to where it fell, if it fell) [m].
     """
 
     index: int
     rms_rad: float
     speed_m_s: float
     fell: bool
+    distance_m: float
 
 
 @dataclass(frozen=True)
@@ -147,6 +169,7 @@ class SimFit:
             "kept_round": self.kept,
             "rms_rad": [round(self.first.rms_rad, 4), round(self.best.rms_rad, 4)],
             "speed_m_s": [round(self.first.speed_m_s, 4), round(self.best.speed_m_s, 4)],
+            "fell": [self.first.fell, self.best.fell],
             "largest_correction_rad": round(float(np.abs(self.correction_rad).max()), 4),
         }
 
@@ -156,7 +179,13 @@ class SimFit:
             f"fitted in the {self.world} world, {len(self.rounds) - 1} rounds (kept "
             f"{self.kept}): joints {self.first.rms_rad:.3f} -> {self.best.rms_rad:.3f} rad rms "
             f"from the recording; walked {self.first.speed_m_s:.3f} -> "
-            f"{self.best.speed_m_s:.3f} m/s at the learned rate"
+            f"{self.best.speed_m_s:.3f} m/s"
+            + (
+                f"; it still fell, after {self.first.distance_m:.1f} -> "
+                f"{self.best.distance_m:.1f} m"
+                if self.best.fell
+                else ""
+            )
         )
 
 
@@ -210,49 +239,64 @@ def fit_in_simulation(
     symmetric = bool(recorded.metadata.get("symmetric"))
     target = _binned(_phase(recorded.time_s, model.period_s), recorded.angles_rad, bins)
     correction = np.zeros((bins, model.num_joints))
-    kept_correction = correction
     gains = np.full(model.num_joints, config.gain)
-    kept_error = kept_rms = step = None
+    # How much of a change of its correction each joint's reached angle follows (module
+    # docstring); 1 until a step has been seen.
+    sensitivity = np.ones(model.num_joints)
+    kept: _Kept | None = None
+    step = np.zeros_like(correction)
     rounds: list[SimFitRound] = []
     played: list[np.ndarray] = []  # the correction each round walked
     for index in range(config.rounds + 1):
         played.append(correction)
-        walked = _walk(model, correction, world, config, config.seed + index)
+        walked = _walk(model, correction, world, config, config.seed)
         seen = len(walked.phase) > 0  # the walk got past its start-up
         if not seen and index == 0:
             raise MimicError(
                 f"{model.name} fell before its start-up ended in the {world} world: there is "
                 "no walk to fit (try it with mimic play, or learn it without --fit-in-sim)"
             )
-        if seen:
-            error = target - _binned(walked.phase, walked.angles_rad, bins)
+        fell = walked.fell or not seen
+        error = target - _binned(walked.phase, walked.angles_rad, bins) if seen else None
         rms = float(np.sqrt(np.nanmean(error**2))) if seen else math.nan
-        if (walked.fell or not seen) and index > 0:
-            gains *= 0.5  # undone: the kept correction's step again, smaller
+        rounds.append(SimFitRound(index, rms, walked.speed_m_s, fell, walked.distance_m))
+        if kept is not None and fell and not (kept.fell and walked.distance_m > kept.distance_m):
+            # The step made the copy fall (sooner than the kept correction did, if that fell
+            # too): undone, and taken again smaller.
+            gains *= 0.5
         else:
             joint_rms = np.sqrt(np.nanmean(error**2, axis=0))
-            if kept_rms is not None:
+            if kept is not None:
+                sensitivity = _sensitivity(
+                    correction - kept.correction, error - kept.error, sensitivity
+                )
+                if symmetric:  # a joint and its mirror image answer alike
+                    sensitivity = 0.5 * (sensitivity + sensitivity[robot.mirror_permutation])
                 # A joint the last step moved away from the recording (a light joint that
                 # the walk's motion swings, like the head, answers late) takes it back, and
                 # steps at half the gain from then on.
-                worse = joint_rms > kept_rms
+                worse = joint_rms > kept.joint_rms
                 if symmetric:  # a joint and its mirror image go back together
                     worse |= worse[robot.mirror_permutation]
-                correction = np.where(worse, kept_correction, correction)
-                error[:, worse], joint_rms[worse] = kept_error[:, worse], kept_rms[worse]
+                correction = np.where(worse, kept.correction, correction)
+                error[:, worse], joint_rms[worse] = kept.error[:, worse], kept.joint_rms[worse]
                 gains[worse] *= 0.5
-            kept_correction, kept_error, kept_rms = correction, error, joint_rms
+            kept = _Kept(correction, error, joint_rms, fell, walked.distance_m)
             step = np.nan_to_num(error)  # a bin the walk never reached gets no correction
             if symmetric:
                 step = 0.5 * (step + robot.mirror_angles(np.roll(step, -(bins // 2), axis=0)))
             step = _smooth(step, config.smoothing)
-        correction = kept_correction + gains * step
-        rounds.append(SimFitRound(index, rms, walked.speed_m_s, walked.fell or not seen))
+        correction = kept.correction + gains / sensitivity * step
         if progress is not None:
             progress(rounds[-1])
-    # The round that came closest to the recording without falling (round 0, the copy as
-    # learned, at worst): a step that helped one joint may have cost the walk more elsewhere.
-    best = min([r for r in rounds if not r.fell] or rounds[:1], key=lambda r: r.rms_rad)
+    # The round that came closest to the recording without falling: a step that helped one
+    # joint may have cost the walk more elsewhere. If every round fell, the one that walked
+    # farthest.
+    walking = [r for r in rounds if not r.fell]
+    if walking:
+        best = min(walking, key=lambda r: r.rms_rad)
+    else:
+        best = max(rounds, key=lambda r: r.distance_m)
     return SimFit(played[best.index], tuple(rounds), best.index, world)
 
 
@@ -273,14 +317,26 @@ class _Walked:
     angles_rad: np.ndarray  # (T, N) the angles reached then
     speed_m_s: float
     fell: bool
+    distance_m: float
+
+
+@dataclass(frozen=True)
+class _Kept:
+    """The correction the fit stands on, and what its walk reached."""
+
+    correction: np.ndarray  # (B, N) [rad]
+    error: np.ndarray  # (B, N) the recording's binned angles less the walk's [rad]
+    joint_rms: np.ndarray  # (N,) [rad]
+    fell: bool
+    distance_m: float
 
 
 def _walk(
     model: MotionModel, correction: np.ndarray, world: str, config: SimFitConfig, seed: int
 ) -> _Walked:
-    """One walk of the course in ``world``: the corrected model at its learned rate."""
+    """One walk of the course in ``world``: the corrected model, played as ``config`` says."""
     log: list[tuple[float, float, np.ndarray]] = []
-    player = _LoggedPlayer(_CorrectedModel.of(model, correction), log)
+    player = _LoggedPlayer(_CorrectedModel.of(model, correction), log, config.speed_hold)
     agent = BalancedAgent(player) if config.balance else player
     row = run_walk_episode(_Built(model.robot, agent), seed, WalkTrialConfig(world=world))[0][0]
     if row["fell"] and log:
@@ -291,6 +347,7 @@ def _walk(
         np.array([e[2] for e in log]).reshape(len(log), model.num_joints),
         float(row["speed_m_s"]),
         bool(row["fell"]),
+        float(row["distance_m"]),
     )
 
 
@@ -315,12 +372,13 @@ class _CorrectedModel(MotionModel):
 
 
 class _LoggedPlayer(NeuralPlayer):
-    """A walk at its learned phase rate (no speed hold) that logs (time [s], phase [cycles],
-    reached angles [rad]) every cycle once its start-up is over."""
+    """A walk that logs (time [s], phase [cycles], reached angles [rad]) every cycle once its
+    start-up is over; ``speed_hold`` off, at its learned phase rate."""
 
-    def __init__(self, model: MotionModel, log: list) -> None:
+    def __init__(self, model: MotionModel, log: list, speed_hold: bool) -> None:
         super().__init__(model)
-        self.speed_m_s = None  # the recording's step timing: the rate stays the learned one
+        if not speed_hold:
+            self.speed_m_s = None  # the rate stays the learned one
         self._log = log
 
     def act(self, obs: Observation) -> JointCommand:
@@ -355,6 +413,19 @@ def _binned(phase: np.ndarray, values: np.ndarray, bins: int) -> np.ndarray:
         if (index == b).any():
             out[b] = np.median(values[index == b], axis=0)
     return out
+
+
+def _sensitivity(
+    correction_step: np.ndarray, error_change: np.ndarray, previous: np.ndarray
+) -> np.ndarray:
+    """(N,) the share of a correction step (B, N) [rad] that each joint's reached angle
+    followed, from the error's change (B, N) [rad] along it: ``-<de, dc> / <dc, dc>``, clipped
+    to ``SENSITIVITY_RANGE``. ``previous`` where the step was too small to tell."""
+    change = np.nan_to_num(error_change)
+    moved = (correction_step**2).sum(axis=0)
+    told = np.sqrt(moved / len(correction_step)) > _TOLD_RMS_RAD
+    seen = -(change * correction_step).sum(axis=0) / np.where(told, moved, 1.0)
+    return np.where(told, np.clip(seen, *SENSITIVITY_RANGE), previous)
 
 
 def _smooth(values: np.ndarray, weights: tuple[float, ...]) -> np.ndarray:
