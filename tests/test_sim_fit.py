@@ -18,6 +18,7 @@ from mimic.errors import MimicError
 from mimic.improve.sim_fit import (
     SENSITIVITY_RANGE,
     SIM_FIT_KEY,
+    FitCheck,
     SimFit,
     SimFitConfig,
     SimFitRound,
@@ -75,11 +76,26 @@ def test_the_sensitivity_is_the_share_of_a_step_that_a_joint_followed():
     assert _sensitivity(step, change, np.ones(4))[0] == pytest.approx(0.5, abs=0.05)
 
 
+def test_a_fitted_copy_is_kept_when_it_falls_no_more_and_walks_no_slower():
+    def check(falls, speed):
+        return FitCheck((1, 2, 3), falls, speed)
+
+    assert check((0, 0), (0.38, 0.40)).fitted_better
+    assert check((2, 1), (0.30, 0.30)).fitted_better
+    assert not check((0, 1), (0.38, 0.45)).fitted_better  # faster, but it fell
+    assert not check((0, 0), (0.40, 0.39)).fitted_better
+    said = check((0, 2), (0.4, 0.41)).describe()
+    assert "fell 0 of 3" in said and "fell 2 of 3" in said and "kept the copy as learned" in said
+    assert check((0, 0), (0.38, 0.4)).summary()["fitted_kept"] is True
+
+
 def test_a_config_that_cannot_fit_is_refused():
     with pytest.raises(MimicError, match="1 round at least"):
         SimFitConfig(rounds=0)
     with pytest.raises(MimicError, match="gain"):
         SimFitConfig(gain=1.5)
+    with pytest.raises(MimicError, match="1 walk at least"):
+        SimFitConfig(check_walks=0)
 
 
 @pytest.fixture(scope="module")
@@ -162,9 +178,18 @@ def test_train_fit_in_sim_prints_the_fit_and_records_it(walk, tmp_path):
     )  # fmt: skip
     assert said.exit_code == 0, said.output
     assert "fitted in the mujoco world, 2 rounds" in said.output, said.output
+    # The network trained on the fitted references and the copy as learned walk from three
+    # other starts; the one that fell less (and then walked faster) is written.
+    assert "check walks from 3 other starts" in said.output, said.output
     facts = load_model(out).metadata[SIM_FIT_KEY]
     assert facts["world"] == MUJOCO and facts["rounds"] == 2
     assert facts["rms_rad"][1] <= facts["rms_rad"][0]
+    check = facts["check"]
+    assert check["seeds"] == [1, 2, 3] and len(check["falls"]) == 2
+    falls, speed = check["falls"], check["speed_m_s"]
+    assert check["fitted_kept"] == (falls[1] <= falls[0] and speed[1] >= speed[0])
+    said_kept = "kept the fitted copy" if check["fitted_kept"] else "kept the copy as learned"
+    assert said_kept in said.output
 
 
 def test_fit_in_sim_refuses_what_it_cannot_fit(tmp_path):

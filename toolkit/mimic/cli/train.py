@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from contextlib import contextmanager
 from pathlib import Path
 from typing import Annotated
 
@@ -266,14 +267,17 @@ def register(app: typer.Typer) -> None:
             models = _train_with_bar(datasets, config, curves)
             if fit_in_sim:
                 cut = dict(start_s=start, end_s=end, period=period, symmetric=symmetric)
+                fit_config = _fit_config(fit_in_sim, seed)
                 fitted = [
-                    _fitted(m, d, p, fit_in_sim, seed, cut)
-                    for m, d, p in zip(models, datasets, inputs)
+                    _fitted(m, d, p, fit_config, cut) for m, d, p in zip(models, datasets, inputs)
                 ]
-                datasets = [d for d, _ in fitted]
                 for d, fit in fitted:
                     console.print(f"{d.name}: {fit.describe()}", highlight=False)
-                models = _train_with_bar(datasets, config, curves)
+                retrained = _train_with_bar([d for d, _ in fitted], config, curves)
+                models = [
+                    _checked(m, f, fit, fit_config)
+                    for m, f, (_, fit) in zip(models, retrained, fitted)
+                ]
         except BaseException:
             if curves is not None:
                 curves.discard()
@@ -363,16 +367,11 @@ def _train_with_bar(datasets, config, curves):
         return train_models(datasets, config, progress)
 
 
-def _fitted(model, dataset, path: Path, rounds: int, seed: int, cut: dict):
-    """(the training dataset with the references fitted in simulation, the fit): the walk
-    replayed ``rounds`` times (``improve.sim_fit``) against the recording's reached angles."""
-    from mimic.improve.sim_fit import SimFitConfig, fit_in_simulation, fitted_dataset
-    from mimic.learn.train import TARGET_REACHED, training_dataset
-    from mimic.recording.layout import JOINT_STATES
-
-    recorded = training_dataset(path, **{**cut, "topic": JOINT_STATES}, target=TARGET_REACHED)
+@contextmanager
+def _walks_bar(label: str, total: int):
+    """(a progress bar counting simulated walks, its task); no bar in a pipe."""
     with Progress(
-        TextColumn(f"fitting {dataset.name} in simulation"),
+        TextColumn(label),
         BarColumn(),
         TextColumn("{task.completed}/{task.total} walks  {task.fields[said]}"),
         TimeElapsedColumn(),
@@ -380,15 +379,50 @@ def _fitted(model, dataset, path: Path, rounds: int, seed: int, cut: dict):
         transient=True,
         disable=not err_console.is_terminal,
     ) as bar:
-        task = bar.add_task("fit", total=rounds + 1, said="")
+        yield bar, bar.add_task(label, total=total, said="")
+
+
+def _fit_config(rounds: int, seed: int):
+    from mimic.improve.sim_fit import SimFitConfig
+
+    return SimFitConfig(rounds=rounds, seed=seed)
+
+
+def _checked(learned, fitted, fit, config):
+    """The fitted model if its check walks (``improve.sim_fit.check_fit``) went no worse than
+    the model's as learned, else that one; either carries the fit and the check in its
+    metadata."""
+    from dataclasses import replace
+
+    from mimic.improve.sim_fit import SIM_FIT_KEY, check_fit
+
+    label = f"checking {fitted.name} against the copy as learned"
+    with _walks_bar(label, 2 * config.check_walks) as (bar, task):
+        check = check_fit(
+            learned, fitted, fit.world, config, progress=lambda: bar.update(task, advance=1)
+        )
+    console.print(f"{fitted.name}: {check.describe()}", highlight=False)
+    model = fitted if check.fitted_better else learned
+    facts = {**fit.summary(), "check": check.summary()}
+    return replace(model, metadata={**model.metadata, SIM_FIT_KEY: facts})
+
+
+def _fitted(model, dataset, path: Path, config, cut: dict):
+    """(the training dataset with the references fitted in simulation, the fit): the walk
+    replayed ``config.rounds`` times (``improve.sim_fit``) against the recording's reached
+    angles."""
+    from mimic.improve.sim_fit import fit_in_simulation, fitted_dataset
+    from mimic.learn.train import TARGET_REACHED, training_dataset
+    from mimic.recording.layout import JOINT_STATES
+
+    recorded = training_dataset(path, **{**cut, "topic": JOINT_STATES}, target=TARGET_REACHED)
+    with _walks_bar(f"fitting {dataset.name} in simulation", config.rounds + 1) as (bar, task):
 
         def progress(r) -> None:
             said = f"{r.rms_rad:.3f} rad rms, {r.speed_m_s:.3f} m/s" + (" fell" if r.fell else "")
             bar.update(task, advance=1, said=said)
 
-        fit = fit_in_simulation(
-            model, recorded, SimFitConfig(rounds=rounds, seed=seed), progress=progress
-        )
+        fit = fit_in_simulation(model, recorded, config, progress=progress)
     return fitted_dataset(dataset, fit), fit
 
 
