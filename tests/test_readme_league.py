@@ -2,7 +2,7 @@
 recording of the other team's walk, its copy learned step by step, played and tried.
 
 Only what a test must change is changed: free ports for 60000/60001, one trial run per
-variant, a shorter training and a shorter play (the block's own figures come from the full
+variant, a shorter training, one round of fitting and a shorter play (the block's own figures come from the full
 commands; ``docs/results.md``).
 """
 
@@ -36,12 +36,12 @@ def shortened(block: str) -> str:
     aport, mport = _free_port(), _free_port()
     block = block.replace("60000", str(aport)).replace("60001", str(mport))
     block = block.replace("--runs 20", "--runs 1").replace("--duration 20", "--duration 6")
-    return block.replace("--symmetric -o", "--symmetric --epochs 1500 -o")
+    return block.replace("--fit-in-sim 6", "--fit-in-sim 1 --epochs 1500")
 
 
 def test_the_readme_league_block_runs_as_it_stands(tmp_path):
     block = league_block((REPO / "README.md").read_text())
-    assert "rcssservermj" in block and "--period steps" in block
+    assert "rcssservermj" in block and "--period steps" in block and "--fit-in-sim 6" in block
     env = dict(os.environ)
     env["PATH"] = f"{Path(sys.executable).parent}{os.pathsep}{env.get('PATH', '')}"
     done = subprocess.run(
@@ -56,6 +56,7 @@ def test_the_readme_league_block_runs_as_it_stands(tmp_path):
     assert done.returncode == 0, said[-3000:]
     assert "Traceback" not in said
     assert "steps from the feet" in said and "walked" in said
+    assert "fitted in the league-like world, 1 round " in said and "check walks" in said
     for made in ("out/seen.mcap", "models/seen_walk.mimic", "out/copy.mcap"):
         assert (tmp_path / made).is_file(), made
     runs = pl.read_parquet(tmp_path / "out" / "league_walk.parquet")

@@ -188,8 +188,9 @@ class SimFit:
 
     def describe(self) -> str:
         """One line: what the fit changed."""
+        n = len(self.rounds) - 1
         return (
-            f"fitted in the {self.world} world, {len(self.rounds) - 1} rounds (kept "
+            f"fitted in the {self.world} world, {n} round{'s' if n != 1 else ''} (kept "
             f"{self.kept}): joints {self.first.rms_rad:.3f} -> {self.best.rms_rad:.3f} rad rms "
             f"from the recording; walked {self.first.speed_m_s:.3f} -> "
             f"{self.best.speed_m_s:.3f} m/s"
