@@ -274,7 +274,10 @@ def fit_in_simulation(
         error = target - _binned(walked.phase, walked.angles_rad, bins) if seen else None
         rms = float(np.sqrt(np.nanmean(error**2))) if seen else math.nan
         rounds.append(SimFitRound(index, rms, walked.speed_m_s, fell, walked.distance_m))
-        if kept is not None and fell and not (kept.fell and walked.distance_m > kept.distance_m):
+        sooner = fell and not (
+            kept is not None and kept.fell and walked.distance_m > kept.distance_m
+        )
+        if kept is not None and (sooner or not seen):
             # The step made the copy fall (sooner than the kept correction did, if that fell
             # too): undone, and taken again smaller.
             gains *= 0.5
