@@ -99,18 +99,9 @@ def test_a_config_that_cannot_fit_is_refused():
 
 
 @pytest.fixture(scope="module")
-def walk(tmp_path_factory):
+def walk(policy_walk_recording, tmp_path_factory):
     """(recording, the copy learned step by step) of the T1's policy-like walk in our world."""
-    folder = tmp_path_factory.mktemp("simfit")
-    rec, copy = folder / "walk.mcap", folder / "copy.mimic"
-    said = runner.invoke(
-        app,
-        [
-            "record", "other-team-policy-walk", "--robot", "t1", "--duration", "12",
-            "--observe-only", "-o", str(rec),
-        ],
-    )  # fmt: skip
-    assert said.exit_code == 0, said.output
+    rec, copy = policy_walk_recording, tmp_path_factory.mktemp("simfit") / "copy.mimic"
     said = runner.invoke(
         app,
         [

@@ -93,21 +93,6 @@ def test_no_walk_is_one_clear_error(feet, says):
         find_steps(t, feet, "rec.mcap")
 
 
-@pytest.fixture(scope="module")
-def policy_walk_recording(tmp_path_factory):
-    """The policy-like walk, recorded in our world with the T1 (joint states and /tf)."""
-    out = tmp_path_factory.mktemp("steps") / "policy.mcap"
-    said = runner.invoke(
-        app,
-        [
-            "record", "other-team-policy-walk", "--robot", "t1", "--duration", "12",
-            "--observe-only", "-o", str(out),
-        ],
-    )  # fmt: skip
-    assert said.exit_code == 0, said.output
-    return out
-
-
 def test_the_policy_walk_never_repeats_its_steps(policy_walk_recording):
     from mimic.learn.train import training_dataset
 

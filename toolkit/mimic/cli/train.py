@@ -266,8 +266,10 @@ def register(app: typer.Typer) -> None:
         try:
             models = _train_with_bar(datasets, config, curves)
             if fit_in_sim:
+                from mimic.improve.sim_fit import SimFitConfig
+
                 cut = dict(start_s=start, end_s=end, period=period, symmetric=symmetric)
-                fit_config = _fit_config(fit_in_sim, seed)
+                fit_config = SimFitConfig(rounds=fit_in_sim, seed=seed)
                 fitted = [
                     _fitted(m, d, p, fit_config, cut) for m, d, p in zip(models, datasets, inputs)
                 ]
@@ -380,12 +382,6 @@ def _walks_bar(label: str, total: int):
         disable=not err_console.is_terminal,
     ) as bar:
         yield bar, bar.add_task(label, total=total, said="")
-
-
-def _fit_config(rounds: int, seed: int):
-    from mimic.improve.sim_fit import SimFitConfig
-
-    return SimFitConfig(rounds=rounds, seed=seed)
 
 
 def _checked(learned, fitted, fit, config):

@@ -370,10 +370,9 @@ def check_fit(
     seeds = tuple(range(config.seed + 1, config.seed + 1 + config.check_walks))
     falls, speeds = [], []
     for model in (learned, fitted):
-        zero = np.zeros((config.phase_bins, model.num_joints))
         walks = []
         for seed in seeds:
-            walks.append(_walk(model, zero, world, config, seed))
+            walks.append(_walk(model, None, world, config, seed))
             if progress is not None:
                 progress()
         falls.append(sum(w.fell for w in walks))
@@ -413,11 +412,17 @@ class _Kept:
 
 
 def _walk(
-    model: MotionModel, correction: np.ndarray, world: str, config: SimFitConfig, seed: int
+    model: MotionModel,
+    correction: np.ndarray | None,
+    world: str,
+    config: SimFitConfig,
+    seed: int,
 ) -> _Walked:
-    """One walk of the course in ``world``: the corrected model, played as ``config`` says."""
+    """One walk of the course in ``world``: the model with ``correction`` (B, N) [rad] on
+    its references (None: as it is), played as ``config`` says."""
     log: list[tuple[float, float, np.ndarray]] = []
-    player = _LoggedPlayer(_CorrectedModel.of(model, correction), log, config.speed_hold)
+    played = model if correction is None else _CorrectedModel.of(model, correction)
+    player = _LoggedPlayer(played, log, config.speed_hold)
     agent = BalancedAgent(player) if config.balance else player
     row = run_walk_episode(_Built(model.robot, agent), seed, WalkTrialConfig(world=world))[0][0]
     if row["fell"] and log:
