@@ -220,6 +220,7 @@ class PoolExecutor(Executor):
     def _terminate(self) -> None:
         """Stop the spawned processes now and wait for them (their episodes are lost)."""
         processes = list((getattr(self._pool, "_processes", None) or {}).values())
+        manager = getattr(self._pool, "_executor_manager_thread", None)  # shutdown forgets it
         for process in processes:
             process.terminate()
         self._pool.shutdown(wait=False, cancel_futures=True)
@@ -228,6 +229,11 @@ class PoolExecutor(Executor):
             if process.is_alive():
                 process.kill()
                 process.join(timeout=5)
+        # The pool's manager thread closes its wake-up pipe once it sees the workers gone; the
+        # interpreter's exit hook writes to that pipe unlocked, so a thread still closing it as
+        # the process exits prints a traceback ("Bad file descriptor"). Wait for the thread.
+        if manager is not None and manager.is_alive():
+            manager.join(timeout=10)
 
     def __exit__(self, exc_type, *exc) -> None:
         if exc_type is not None and issubclass(exc_type, BaseException):
