@@ -129,6 +129,9 @@ def main() -> None:
         "--minutes", type=float, default=10.0, help="simulated minutes per variant, each trial"
     )
     parser.add_argument("--workers", type=int, default=2)
+    parser.add_argument(
+        "--disturb", default="none", help="trial disturbance level (none: the published tables)"
+    )
     parser.add_argument("--kick-recordings", type=int, default=3)
     parser.add_argument(
         "--improve-budget", type=int, default=0, help="improve the kick copy (0: skip)"
@@ -139,7 +142,8 @@ def main() -> None:
     if args.improve_budget < 0:
         sys.exit("--improve-budget must be >= 0")
     args.out.mkdir(parents=True, exist_ok=True)
-    common = ["--world", "league", "--robot", "t1", "--workers", str(args.workers), "--force"]
+    common = ["--world", "league", "--robot", "t1", "--workers", str(args.workers), "--force",
+              "--disturb", args.disturb]  # fmt: skip
     if args.only in (None, "walk"):
         variants = learn_walk(args.out)
         subprocess.run(

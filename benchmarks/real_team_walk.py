@@ -122,6 +122,9 @@ def main() -> None:
     parser.add_argument("--runs", type=int, default=20)
     parser.add_argument("--seed", type=int, default=59)
     parser.add_argument("--workers", type=int, default=2)
+    parser.add_argument(
+        "--disturb", default="none", help="trial disturbance level (none: the published tables)"
+    )
     args = parser.parse_args()
     if args.runs < 1 or args.workers < 1:
         sys.exit("--runs and --workers must be >= 1")
@@ -145,7 +148,7 @@ def main() -> None:
     trial = _run(
         MIMIC, "trial", "walk", "--compare", *variants, "--world", "league", "--robot", "t1",
         "--runs", str(args.runs), "--seed", str(args.seed), "--workers", str(args.workers),
-        "-o", str(args.out / "walk.parquet"), "--force",
+        "-o", str(args.out / "walk.parquet"), "--force", "--disturb", args.disturb,
     )  # fmt: skip
     print(trial.stdout)
     print("\n".join(refused))

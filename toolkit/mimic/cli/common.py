@@ -51,6 +51,15 @@ ROBOT = typer.Option(
     show_default=False,
 )
 
+#: ``--disturb``: how much a trial's episodes are disturbed (``episode.disturbance``).
+DISTURB = typer.Option(
+    "--disturb",
+    help="Disturbances per episode: none (only the start pose), game (start delay, pushes, "
+    "friction and masses +-10 %) or hard (twice game, and sensor noise); default: game "
+    "where mimic steps the physics itself, none on a league server (it cannot push).",
+    show_default=False,
+)
+
 #: ``--success-m``: the kick rule's distance (``trial kick``, ``improve --objective kick``).
 SUCCESS_M = typer.Option(
     "--success-m",

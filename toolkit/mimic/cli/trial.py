@@ -15,6 +15,7 @@ from rich.table import Column, Table
 
 from mimic import options
 from mimic.cli.common import (
+    DISTURB,
     FORCE,
     ROBOT,
     SAVE_OLD,
@@ -176,6 +177,18 @@ class TrialProgress:
             self._printed[label], self._printed_at = status, now
 
 
+def _disturb(level: str | None, world: str) -> str:
+    """``--disturb``, or the default: ``game`` where mimic steps the physics itself, ``none``
+    on a league server (its physics is in another process)."""
+    from mimic.episode.disturbance import DEFAULT_DISTURB, disturb_level
+    from mimic.trials.worlds import world_owns_physics
+
+    if level is not None:
+        disturb_level(level)  # an unknown level: one line before anything runs
+        return level
+    return DEFAULT_DISTURB if world_owns_physics(world) else "none"
+
+
 #: Columns of the printed table (all columns go to the files), with short headers.
 _SHOWN = {
     "kick": {
@@ -221,14 +234,18 @@ _CI_SHOWN = {
     "falls": ("fall_rate_pct", "range %"),
     "success_pct": ("success_pct", "range"),
     "mean_time_to_stand_s": ("mean_time_to_stand_s", "half"),
+    "mean_speed_m_s_ratio": ("mean_speed_m_s_ratio", "half"),
+    "mean_distance_m_ratio": ("mean_distance_m_ratio", "half"),
+    "accuracy_pct_ratio": ("accuracy_pct_ratio", "half"),
 }
 _LEGEND = {
     "kick": "95% CI: 95 % confidence interval of the accuracy (Wilson) and of the mean distance "
     "(t, +- half width). ok: kicks farther than {success_m:g} m. stuck: episodes that ended because "
     "the robot could not reach the ball in time or could not line up with it. Ratios: "
-    "against the first variant.",
+    "against the first variant, with their 95 % interval (delta method).",
     "walk": "95% CI: 95 % confidence interval of the means (t, +- half width) and of the share "
-    "of runs that fell (Wilson). Ratios: against the first variant.",
+    "of runs that fell (Wilson). Ratios: against the first variant, with their 95 % interval "
+    "(delta method, runs paired by seed).",
     "getup": "stood: runs upright at their end; time: from the get-up's start until the robot "
     "stayed upright. 95% CI: of the share that stood (Wilson) and of the mean time (t, +- half "
     "width). Ratios: against the first variant.",
@@ -263,7 +280,10 @@ def _world_text(result) -> str:
         "place": "robot placed behind the ball after each kick",
         "walk": "robot walks to the ball",
     }.get(row.get("reach"))
-    return world + (f", {reach}" if reach else "")
+    disturb = row.get("disturb")
+    return (
+        world + (f", {reach}" if reach else "") + (f"; disturbances: {disturb}" if disturb else "")
+    )
 
 
 def _minutes_text(result, minutes: float | None) -> str:
@@ -372,6 +392,7 @@ def kick(
     world: Annotated[str, WORLD] = "mujoco",
     robot: Annotated[str | None, ROBOT] = None,
     success_m: Annotated[float | None, SUCCESS_M] = None,
+    disturb: Annotated[str | None, DISTURB] = None,
 ) -> None:
     """Kick trial: kick toward the goal, reach the ball (walk there, or be placed behind it),
     kick again until a goal; repeat."""
@@ -383,7 +404,7 @@ def kick(
     world = world_kind(world)
     robot = _trial_robot(robot, world, [*(variants or []), motion, model])
     specs = _specs(variants, compare, motion, model, balance, 1.0, "kick_right", robot)
-    config = KickTrialConfig(world=world)
+    config = KickTrialConfig(world=world, disturb=_disturb(disturb, world))
     if success_m is not None:
         config = replace(config, success_distance_m=success_m)
     _check(
@@ -465,6 +486,7 @@ def walk(
     ray_address: Annotated[str | None, RAY_ADDRESS] = None,
     world: Annotated[str, WORLD] = "mujoco",
     robot: Annotated[str | None, ROBOT] = None,
+    disturb: Annotated[str | None, DISTURB] = None,
 ) -> None:
     """Walk trial from a standing start, straight ahead (our world: own goal line to centre
     line, 15 m; the league: 10 m through the centre spot), repeated."""
@@ -490,7 +512,7 @@ def walk(
     )
     if minutes is None and runs is None:
         runs = 10
-    config = WalkTrialConfig(world=world)
+    config = WalkTrialConfig(world=world, disturb=_disturb(disturb, world))
     _check(
         "walk",
         specs,

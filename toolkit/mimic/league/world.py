@@ -96,6 +96,9 @@ class LeagueWorld(World):
 
     command_delay_cycles = LEAGUE_COMMAND_DELAY_CYCLES
 
+    def describe(self) -> str:
+        return "league server (another process: its physics is its own)"
+
     def __init__(
         self,
         robot: RobotDescription | str = "t1",

@@ -10,6 +10,7 @@ import polars as pl
 
 from mimic import options
 from mimic.agents.registry import AgentSpec
+from mimic.episode.disturbance import disturb_level
 from mimic.errors import MimicError
 from mimic.trials.executors import Executor, make_executor
 from mimic.trials.getup import GetupTrialConfig, run_getup_episode
@@ -18,6 +19,7 @@ from mimic.trials.parallel import EpisodeBatch, run_episodes
 from mimic.trials.report import (
     getup_summary,
     kick_summary,
+    ratio_intervals,
     summary_files,
     walk_summary,
     with_ratios,
@@ -25,7 +27,7 @@ from mimic.trials.report import (
     write_summary,
 )
 from mimic.trials.walk import WalkTrialConfig, run_walk_episode
-from mimic.trials.worlds import MUJOCO, check_world, world_kind
+from mimic.trials.worlds import MUJOCO, check_world, world_kind, world_owns_physics
 
 __all__ = [
     "TrialResult",
@@ -102,6 +104,12 @@ def check_trial(
     options.seed(seed)
     options.workers(workers)
     world = world_kind(getattr(config, "world", MUJOCO))
+    level = getattr(config, "disturb", "none")
+    if disturb_level(level).physics and not world_owns_physics(world):
+        raise MimicError(
+            f"--disturb {level} pushes the robot and changes friction and masses, which the "
+            f"{world} world cannot (its physics runs in another process); use --disturb none"
+        )
     if kind == "kick" and config is not None:
         options.finite(config.success_distance_m, "--success-m", at_least=0)
     for spec in specs:
@@ -190,6 +198,7 @@ def _run_variants(
 ) -> TrialResult:
     frames, rows, traces = [], [], {}
     expected_s = None  # the previous variant's mean episode: how many to run at once
+    first_rows = None  # the first variant's events: every ratio's base
     for spec in specs:
         if progress:  # the variant starts now (its clock too), before its first episode ends
             progress(spec.label, EpisodeBatch([], []))
@@ -208,7 +217,13 @@ def _run_variants(
         expected_s = batch.simulated_s / len(batch.episodes) if batch.episodes else None
         if 0 in batch.traces:
             traces[spec.label] = batch.traces[0]
-        rows.append(summarise(spec.label, batch))
+        if first_rows is None:  # the base of every ratio: its own is 1, without an interval
+            first_rows = batch.rows
+            rows.append(summarise(spec.label, batch))
+        else:
+            rows.append(
+                {**summarise(spec.label, batch), **ratio_intervals(kind, first_rows, batch.rows)}
+            )
         if batch.rows:
             frames.append(
                 pl.DataFrame(batch.rows).with_columns(pl.lit(spec.label).alias("variant"))

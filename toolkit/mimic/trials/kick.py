@@ -20,6 +20,7 @@ import numpy as np
 
 from mimic.agents.registry import AgentSpec
 from mimic.episode import Episode, PoseNoise, PoseTrace, Scene
+from mimic.episode.disturbance import EpisodeDisturbances
 from mimic.episode.scene import BALL_ASIDE_M, SETTLE_S
 from mimic.trials.worlds import MUJOCO, open_world, world_kind
 from mimic.world.base import World
@@ -79,6 +80,9 @@ class KickTrialConfig:
     # A kick succeeds when the ball travels farther than this [m] (the study's 2 m; a shorter
     # kick, such as the T1 other team's 1 m kick inside its walk, needs its own rule).
     success_distance_m: float = SUCCESS_DISTANCE_M
+    # Disturbance level (``episode.disturbance.DISTURB_LEVELS``): none, game or hard. The
+    # library's default is none (the undisturbed trial); ``mimic trial`` defaults to game.
+    disturb: str = "none"
 
 
 def reach_method(config: KickTrialConfig, robot: str) -> str:
@@ -241,10 +245,12 @@ def _play_kick_episode(
     world: World, kick: AgentSpec, seed: int, config: KickTrialConfig
 ) -> tuple[list[dict], dict]:
     rng = np.random.default_rng(seed)
+    disturb = EpisodeDisturbances(config.disturb, seed, world)
+    disturb.apply_physics(world)
     reach = reach_method(config, kick.robot)
     goal_x = world.field.opponent_goal_x_m
     trace = PoseTrace() if config.trace else None
-    episode = Episode(world, observers=(trace,) if trace else ())
+    episode = Episode(world, observers=(trace, disturb.pusher) if trace else (disturb.pusher,))
     falls, limit_s = episode.falls, config.episode_limit_s
 
     def left_s() -> float:
@@ -252,6 +258,8 @@ def _play_kick_episode(
 
     offset = kick.ball_offset_m()
     kick_scene(offset, config, goal_x).setup(world, rng, observers=episode.watchers)
+    disturb.start_delay(episode)
+    disturb.pusher.arm(world)
     rows: list[dict] = []
     end = "time limit"
     while left_s() > 0:
@@ -259,7 +267,9 @@ def _play_kick_episode(
         start_t = world.time_s
         lineup = world.ball_in_robot_frame_m()
         falls_before = falls.falls
-        outcome = episode.run(kick.build(), max_s=min(10.0, left_s()))
+        pushes_before = len(disturb.pusher.pushed)
+        outcome = episode.run(disturb.agent(kick.build()), max_s=min(10.0, left_s()))
+        pushed = len(disturb.pusher.pushed) - pushes_before
         if outcome != "fell":
             watch = _BallWatch(config, lambda w: w.time_s - start_t > 1.0)  # noqa: B023 (used in this iteration)
             episode.stand_still(max_s=min(config.ball_wait_s, left_s()), stop=watch)
@@ -294,6 +304,7 @@ def _play_kick_episode(
                 ball_end_y_m=float(end_xy[1]),
                 lineup_error_x_m=float(lineup[0] - offset[0]),
                 lineup_error_y_m=float(lineup[1] - offset[1]),
+                pushes_during_kick=pushed,
             )
         )
         if rows[-1]["goal"]:
@@ -304,8 +315,8 @@ def _play_kick_episode(
             break
         if reach == "place":
             walk = _place_behind_ball(episode, offset, config, rng, goal_x)
-            if walk == "fell":  # even placed anew it does not stand: give up
-                end = "could not stand"
+            if walk == "fell" or disturb.start_delay(episode) == "fell":
+                end = "could not stand"  # even placed anew it does not stand: give up
                 break
             continue
         if world.fallen() and not episode.get_up():
@@ -334,7 +345,12 @@ def _play_kick_episode(
         stuck=end.startswith("stuck"),
         world=world_kind(config.world),
         reach=reach,
+        **disturb.columns(),
     )
+    for row in rows:  # the episode's draw beside every kick
+        row.update(
+            {k: summary[k] for k in ("disturb", "friction_scale", "mass_scale", "start_delay_s")}
+        )
     if trace is not None:
         summary["trace"] = trace.trace()
     return rows, summary

@@ -17,13 +17,14 @@ from mimic import __version__
 from mimic.files import atomic_output
 from mimic.trials.kick import SUCCESS_DISTANCE_M
 from mimic.trials.parallel import EpisodeBatch
-from mimic.trials.stats import mean_interval, wilson_interval
+from mimic.trials.stats import mean_interval, ratio_interval, wilson_interval
 
 __all__ = [
     "kick_summary",
     "walk_summary",
     "getup_summary",
     "with_ratios",
+    "ratio_intervals",
     "STUDY_KICK",
     "STUDY_WALK",
     "write_rows",
@@ -112,6 +113,7 @@ def kick_summary(label: str, batch: EpisodeBatch) -> dict:
         simulated_min=batch.simulated_s / 60,
         world=_first(eps, "world"),
         reach=_first(eps, "reach"),
+        disturb=_first(eps, "disturb"),
     )
 
 
@@ -140,6 +142,7 @@ def walk_summary(label: str, batch: EpisodeBatch) -> dict:
         **_ci("fall_rate_pct", wilson_interval(fell, runs.height), 100.0),
         simulated_min=batch.simulated_s / 60,
         world=_first(runs, "world"),
+        disturb=_first(runs, "disturb"),
     )
 
 
@@ -176,6 +179,35 @@ _RATIO_COLUMNS = {
     "success_pct",
     "mean_time_to_stand_s",
 }
+
+
+#: Summary column -> the per-event column its ratio's interval comes from, per trial kind;
+#: walk runs pair by episode (every variant plays the same seeds), kicks do not pair.
+_RATIO_CI_SOURCES = {
+    "walk": ({"mean_speed_m_s": "speed_m_s"}, True),
+    "kick": ({"mean_distance_m": "distance_m", "accuracy_pct": "success"}, False),
+    "getup": ({"mean_time_to_stand_s": "time_to_stand_s"}, False),
+}
+
+
+def ratio_intervals(kind: str, first: list[dict], rows: list[dict]) -> dict:
+    """``<column>_ratio_ci_low/high``: the 95 % interval of a variant's ratio to the first
+    variant (``first``: its per-event rows), for the columns ``_RATIO_CI_SOURCES`` names."""
+    sources, paired = _RATIO_CI_SOURCES.get(kind, ({}, False))
+    out = {}
+    for column, source in sources.items():
+        if paired:
+            by_episode = {r["episode"]: r[source] for r in first}
+            pairs = [
+                (r[source], by_episode[r["episode"]]) for r in rows if r["episode"] in by_episode
+            ]
+            values = [float(v) for v, _ in pairs]
+            base = [float(b) for _, b in pairs]
+        else:
+            values = [float(r[source]) for r in rows if r.get(source) is not None]
+            base = [float(r[source]) for r in first if r.get(source) is not None]
+        out.update(_ci(f"{column}_ratio", ratio_interval(values, base, paired=paired)))
+    return out
 
 
 def with_ratios(summary: pl.DataFrame) -> pl.DataFrame:

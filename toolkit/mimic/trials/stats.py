@@ -17,7 +17,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
-__all__ = ["Z_95", "t_quantile_95", "wilson_interval", "mean_interval"]
+__all__ = ["Z_95", "t_quantile_95", "wilson_interval", "mean_interval", "ratio_interval"]
 
 #: Two-sided 95 % quantile of the standard normal distribution.
 Z_95 = 1.959963984540054
@@ -88,3 +88,35 @@ def mean_interval(values: Sequence[float]) -> tuple[float, float]:
     half = t_quantile_95(len(x) - 1) * float(x.std(ddof=1)) / math.sqrt(len(x))
     mean = float(x.mean())
     return (mean - half, mean + half)
+
+
+def ratio_interval(
+    values: Sequence[float], base: Sequence[float], *, paired: bool = False
+) -> tuple[float, float]:
+    """95 % interval of mean(values) / mean(base), by the delta method.
+
+    ``paired``: ``values[i]`` and ``base[i]`` come from the same episode (the same seed, so
+    the same disturbances): their covariance narrows the interval. Otherwise the samples are
+    independent and the degrees of freedom are the smaller sample's, less one.
+    """
+    a, b = np.asarray(values, dtype=float), np.asarray(base, dtype=float)
+    if paired:
+        if a.shape != b.shape:
+            raise ValueError(f"paired samples differ in length: {a.shape} and {b.shape}")
+        keep = np.isfinite(a) & np.isfinite(b)
+        a, b = a[keep], b[keep]
+    else:
+        a, b = a[np.isfinite(a)], b[np.isfinite(b)]
+    if len(a) < 2 or len(b) < 2 or b.mean() == 0:
+        return (math.nan, math.nan)
+    ma, mb = float(a.mean()), float(b.mean())
+    r = ma / mb
+    if paired:
+        cov = float(np.cov(a, b, ddof=1)[0, 1])
+        var = (a.var(ddof=1) + r * r * b.var(ddof=1) - 2 * r * cov) / (len(a) * mb * mb)
+        df = len(a) - 1
+    else:
+        var = (a.var(ddof=1) / len(a) + r * r * b.var(ddof=1) / len(b)) / (mb * mb)
+        df = min(len(a), len(b)) - 1
+    half = t_quantile_95(df) * math.sqrt(max(float(var), 0.0))
+    return (r - half, r + half)

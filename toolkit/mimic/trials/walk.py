@@ -14,6 +14,7 @@ import numpy as np
 
 from mimic.agents.registry import AgentSpec
 from mimic.episode import Episode, PoseNoise, PoseTrace, Scene
+from mimic.episode.disturbance import EpisodeDisturbances
 from mimic.episode.scene import SETTLE_S
 from mimic.trials.worlds import LEAGUE, MUJOCO, open_world, world_kind
 from mimic.world import field as F
@@ -44,6 +45,9 @@ class WalkTrialConfig:
     world: str = MUJOCO
     # League only: the command that starts the server (None: ``python -m rcsssmj``).
     server_command: tuple[str, ...] | None = None
+    # Disturbance level (``episode.disturbance.DISTURB_LEVELS``): none, game or hard. The
+    # library's default is none (the undisturbed trial); ``mimic trial`` defaults to game.
+    disturb: str = "none"
 
     def course_m(self) -> tuple[float, float]:
         """(start x, finish x) [m] in this trial's world."""
@@ -81,15 +85,21 @@ def _play_walk_episode(
     world, walk: AgentSpec, seed: int, config: WalkTrialConfig
 ) -> tuple[list[dict], dict]:
     rng = np.random.default_rng(seed)
+    disturb = EpisodeDisturbances(config.disturb, seed, world)
+    disturb.apply_physics(world)
     finish_x = config.course_m()[1]
     trace = PoseTrace() if config.trace else None
-    episode = Episode(world, observers=(trace,) if trace else ())
+    episode = Episode(world, observers=(trace, disturb.pusher) if trace else (disturb.pusher,))
     walk_scene(config).setup(world, rng, observers=episode.watchers)
+    disturb.start_delay(episode)
     falls = episode.falls
     start = world.torso_pos_m()
     t0 = world.time_s
+    disturb.pusher.arm(world)
     outcome = episode.run(
-        walk.build(), max_s=config.timeout_s, stop=lambda w: w.torso_pos_m()[0] >= finish_x
+        disturb.agent(walk.build()),
+        max_s=config.timeout_s,
+        stop=lambda w: w.torso_pos_m()[0] >= finish_x,
     )
     end = world.torso_pos_m()
     elapsed = world.time_s - t0
@@ -110,6 +120,7 @@ def _play_walk_episode(
         end={"stop": "finished", "fell": "fell", "timeout": "timeout", "done": "agent stopped"}[
             outcome
         ],
+        **disturb.columns(),
     )
     summary = dict(row, trace=trace.trace()) if trace is not None else row
     return [row], summary

@@ -35,6 +35,7 @@ __all__ = [
     "LEAGUE",
     "LEAGUE_LIKE",
     "world_kind",
+    "world_owns_physics",
     "open_world",
     "default_robot",
     "check_world",
@@ -59,6 +60,12 @@ def world_kind(name: str) -> str:
     if kind not in WORLDS:
         raise MimicError(f"unknown world {name!r}; worlds: {', '.join(WORLDS)} (nao: mujoco)")
     return kind
+
+
+def world_owns_physics(kind: str) -> bool:
+    """Episodes in this world can push the robot and change friction and masses (the
+    physics runs in mimic's process)."""
+    return world_kind(kind) in (MUJOCO, LEAGUE_LIKE)
 
 
 def default_robot(kind: str) -> str:

@@ -13,6 +13,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from mimic.errors import MimicError
 from mimic.geometry import in_robot_frame, yaw_from_quat
 from mimic.robot.actuators import JointCommand
 from mimic.robot.model import RobotDescription
@@ -176,6 +177,30 @@ class World(ABC):
     @abstractmethod
     def body_poses(self) -> BodyPoses:
         """Every link's pose in the field frame."""
+
+    # --- disturbances (``episode.disturbance``) ----------------------------------------------
+    #: The world owns its physics: it can scale friction and masses per episode and push the
+    #: robot (a server in another process cannot).
+    can_disturb_physics: bool = False
+
+    def scale_physics(self, friction_scale: float, link_mass_scales: np.ndarray) -> None:
+        """Scale the sliding friction of every contact by ``friction_scale`` and each robot
+        link's mass and inertia by ``link_mass_scales`` ((L,), the robot's ``links`` order),
+        from the world's nominal values (so calls do not compound). Call before placing."""
+        raise MimicError(f"the {self.describe()} cannot change its friction or masses")
+
+    def push_torso(self, force_n: np.ndarray) -> None:
+        """Apply ``force_n`` ((3,), field frame [N]) at the torso's centre of mass in every
+        following step until changed (zeros: no push)."""
+        raise MimicError(f"the {self.describe()} cannot push the robot")
+
+    def robot_mass_kg(self) -> float:
+        """The robot's whole mass [kg] (after ``scale_physics``)."""
+        return self.robot.mass_kg
+
+    def describe(self) -> str:
+        """What this world is, for messages."""
+        return type(self).__name__
 
     # --- derived quantities and events (shared by every world) ------------------------------
     def torso_yaw_rad(self) -> float:

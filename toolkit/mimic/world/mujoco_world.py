@@ -78,6 +78,8 @@ class MujocoWorld(World):
             ]
         )
         self.cycle = 0
+        # Friction and masses as built, kept when an episode first scales them.
+        self._nominal: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None
 
     # --- placing things -------------------------------------------------------------------
     def reset(self) -> None:
@@ -170,6 +172,38 @@ class MujocoWorld(World):
         d.qpos[self._ball_q : self._ball_q + 7] = (x_m, y_m, self.field.ball_radius_m, 1, 0, 0, 0)
         d.qvel[self._ball_v : self._ball_v + 6] = 0.0
         mujoco.mj_forward(self.model, self.data)
+
+    # --- disturbances ----------------------------------------------------------------------
+    can_disturb_physics = True
+
+    def scale_physics(self, friction_scale: float, link_mass_scales: np.ndarray) -> None:
+        m = self.model
+        if self._nominal is None:
+            self._nominal = (
+                m.geom_friction[:, 0].copy(),
+                m.body_mass.copy(),
+                m.body_inertia.copy(),
+            )
+        friction, mass, inertia = self._nominal
+        scales = np.asarray(link_mass_scales, dtype=float)
+        if scales.shape != self._link_ids.shape:
+            raise ValueError(f"{len(self._link_ids)} link mass scales expected, got {scales.shape}")
+        m.geom_friction[:, 0] = friction * friction_scale
+        m.body_mass[:], m.body_inertia[:] = mass, inertia
+        m.body_mass[self._link_ids] = mass[self._link_ids] * scales
+        m.body_inertia[self._link_ids] = inertia[self._link_ids] * scales[:, None]
+        # Derived constants (subtree masses, the solver's inverse weights) as if compiled so.
+        mujoco.mj_setConst(m, self.data)
+        self.reset()
+
+    def push_torso(self, force_n: np.ndarray) -> None:
+        self.data.xfrc_applied[self.torso_body_id, :3] = force_n
+
+    def robot_mass_kg(self) -> float:
+        return float(self.model.body_subtreemass[self.torso_body_id])
+
+    def describe(self) -> str:
+        return f"MuJoCo world ({self.robot.name})"
 
     # --- stepping -------------------------------------------------------------------------
     def step(self, command: JointCommand) -> None:

@@ -1,0 +1,177 @@
+"""Disturbances: pushes, physics spreads, start delays and sensor noise in real episodes."""
+
+import math
+
+import numpy as np
+import pytest
+from typer.testing import CliRunner
+
+from mimic.agents.registry import AgentSpec
+from mimic.cli.main import app
+from mimic.episode.disturbance import (
+    DISTURB_LEVELS,
+    GAME_PUSH_SPEED_M_S,
+    EpisodeDisturbances,
+    NoisySensors,
+)
+from mimic.errors import MimicError
+from mimic.robot.actuators import JointCommand
+from mimic.trials.api import check_trial, walk_trial
+from mimic.trials.stats import ratio_interval
+from mimic.trials.walk import WalkTrialConfig, run_walk_episode
+from mimic.world.mujoco_world import MujocoWorld
+
+# A short course (5 m of the study's 15 m) keeps each run a few seconds of wall time.
+SHORT = dict(start_x_m=-15.0, finish_x_m=-12.0)
+
+
+def _standing_nao() -> MujocoWorld:
+    world = MujocoWorld("nao")
+    world.reset()
+    world.place_robot(0.0, 0.0, 0.0, world.robot.stand_pose())
+    return world
+
+
+def test_a_push_changes_the_whole_robots_speed_by_its_size():
+    world = _standing_nao()
+    from mimic.agents.hold import HoldPose
+    from mimic.episode import run
+
+    run(world, HoldPose(world.robot.stand_pose(), "nao"), max_s=0.5, stop_when_done=False)
+    mass = world.robot_mass_kg()
+    before = world.data.subtree_com[world.torso_body_id].copy()
+    dv = 0.2
+    world.push_torso(np.array([0.0, mass * dv / 0.1, 0.0]))  # sideways, 0.1 s
+    for _ in range(5):
+        world.step(JointCommand.references(world.robot.stand_pose()))
+    world.push_torso(np.zeros(3))
+    # Momentum: the centre of mass moves sideways at about dv (the feet's friction takes a
+    # share, the push's own 0.1 s moves it dv * 0.05 m).
+    vel = (world.data.subtree_com[world.torso_body_id] - before) / 0.1
+    assert 0.3 * dv < vel[1] < 1.1 * dv
+    assert abs(vel[0]) < 0.3 * dv
+
+
+def test_physics_scales_do_not_compound_and_move_the_mass():
+    world = MujocoWorld("nao")
+    nominal = world.robot_mass_kg()
+    friction = world.model.geom_friction[:, 0].copy()
+    scales = np.full(len(world.robot.links), 1.1)
+    for _ in range(2):  # twice: from the nominal values each time
+        world.scale_physics(0.9, scales)
+    assert world.robot_mass_kg() == pytest.approx(1.1 * nominal, rel=1e-9)
+    np.testing.assert_allclose(world.model.geom_friction[:, 0], 0.9 * friction)
+    world.scale_physics(1.0, np.ones(len(world.robot.links)))
+    assert world.robot_mass_kg() == pytest.approx(nominal, rel=1e-9)
+
+
+def test_game_draws_repeat_per_seed_and_none_draws_nothing():
+    world = MujocoWorld("nao")
+    a, b = (EpisodeDisturbances("game", 5, world) for _ in range(2))
+    assert a.friction_scale == b.friction_scale and 0.9 <= a.friction_scale <= 1.1
+    np.testing.assert_array_equal(a.link_mass_scales, b.link_mass_scales)
+    assert a.push_speed_m_s == GAME_PUSH_SPEED_M_S["nao"]
+    c = EpisodeDisturbances("game", 6, world)
+    assert c.friction_scale != a.friction_scale
+    none = EpisodeDisturbances("none", 5, world)
+    assert none.columns()["friction_scale"] == 1.0 and none.columns()["mass_scale"] == 1.0
+
+
+def test_game_runs_get_pushed_and_differ_more_than_undisturbed_ones():
+    spec = AgentSpec("behaviour", "walk")
+    game = [run_walk_episode(spec, s, WalkTrialConfig(**SHORT))[0][0] for s in range(3)]
+    calm = [
+        run_walk_episode(spec, s, WalkTrialConfig(disturb="none", **SHORT))[0][0] for s in range(3)
+    ]
+    assert all(r["disturb"] == "game" for r in game)
+    assert sum(r["pushes"] for r in game) >= 1, "no push in 3 runs of ~8 s at one per 3 s"
+    assert all(r["pushes"] == 0 and r["start_delay_s"] == 0 for r in calm)
+    assert all(0 <= r["start_delay_s"] <= DISTURB_LEVELS["game"].start_delay_s for r in game)
+    # The same seed with and without disturbances starts from the same scene; the
+    # disturbances move where the robot ends.
+    for g, c in zip(game, calm, strict=True):
+        assert (
+            abs(g["y_end_m"] - c["y_end_m"]) > 0.005 or abs(g["speed_m_s"] - c["speed_m_s"]) > 0.002
+        )
+    # The same seed repeats exactly.
+    again = run_walk_episode(spec, 1, WalkTrialConfig(**SHORT))[0][0]
+    assert again == game[1]
+
+
+def test_hard_level_feeds_the_agent_noisy_sensors_but_measures_the_truth():
+    world = _standing_nao()
+    level = DISTURB_LEVELS["hard"]
+
+    class Seen:
+        name, team, period_s, start_posture, robot, robot_only = "seen", "t", None, "x", "nao", 0
+        done, reference_rad = False, None
+
+        def reset(self, obs):
+            self.seen = [obs]
+
+        def act(self, obs):
+            self.seen.append(obs)
+            return None
+
+    inner = Seen()
+    agent = NoisySensors(inner, level, np.random.default_rng(0))
+    truth = world.observe()
+    agent.reset(truth)
+    for _ in range(200):
+        agent.act(truth)
+    joints = np.array([o.joint_angles_rad for o in inner.seen]) - truth.joint_angles_rad
+    assert joints.std() == pytest.approx(level.joint_noise_rad, rel=0.1)
+    gyro = np.array([o.gyro_rad_s for o in inner.seen]) - truth.gyro_rad_s
+    assert gyro.std() == pytest.approx(level.gyro_noise_rad_s, rel=0.15)
+    tilts = [
+        math.acos(min(1.0, abs(float(np.dot(o.torso_quat_wxyz, truth.torso_quat_wxyz)))))
+        for o in inner.seen
+    ]
+    assert 0 < np.mean(tilts) < 3 * level.tilt_noise_rad
+    np.testing.assert_array_equal(world.observe().joint_angles_rad, truth.joint_angles_rad)
+
+
+def test_a_trial_reports_each_ratio_with_its_interval_and_the_level():
+    spec = AgentSpec("behaviour", "walk")
+    result = walk_trial([spec, spec], runs=3, seed=2, workers=1, config=WalkTrialConfig(**SHORT))
+    row = result.summary.row(1, named=True)
+    assert row["disturb"] == "game"
+    # The same variant twice on the same seeds: the same runs, a ratio of exactly 1.
+    assert row["mean_speed_m_s_ratio_ci_low"] == pytest.approx(1.0)
+    assert row["mean_speed_m_s_ratio_ci_high"] == pytest.approx(1.0)
+    assert {"pushes", "push_times_s", "friction_scale", "mass_scale"} <= set(result.rows.columns)
+
+
+def test_ratio_interval_covers_the_true_ratio_about_95_percent_of_the_time():
+    rng = np.random.default_rng(0)
+    hits_paired = hits_unpaired = 0
+    widths = []
+    for _ in range(400):
+        shared = rng.normal(0.0, 0.05, 20)  # the seed's disturbance, the same for both
+        base = 0.5 + shared + rng.normal(0.0, 0.01, 20)
+        copy = 0.45 + shared + rng.normal(0.0, 0.01, 20)
+        lo, hi = ratio_interval(copy, base, paired=True)
+        hits_paired += lo <= 0.9 <= hi
+        ulo, uhi = ratio_interval(copy, base)
+        hits_unpaired += ulo <= 0.9 <= uhi
+        widths.append((hi - lo, uhi - ulo))
+    assert 0.9 <= hits_paired / 400 <= 0.99
+    assert hits_unpaired / 400 >= 0.9
+    paired_w, unpaired_w = np.mean(widths, axis=0)
+    assert paired_w < 0.5 * unpaired_w, "pairing by seed removes the shared disturbance"
+    assert all(math.isnan(v) for v in ratio_interval([1.0], [1.0, 2.0]))
+
+
+def test_a_league_server_refuses_pushes_in_one_line():
+    spec = AgentSpec("behaviour", "other-team-walk", robot="t1")
+    with pytest.raises(MimicError, match="--disturb none"):
+        check_trial("walk", [spec], runs=1, config=WalkTrialConfig(world="league"))
+    check_trial("walk", [spec], runs=1, config=WalkTrialConfig(world="league", disturb="none"))
+    check_trial("walk", [spec], runs=1, config=WalkTrialConfig(world="league-like"))
+
+
+def test_unknown_level_is_one_clear_line():
+    result = CliRunner().invoke(app, ["trial", "walk", "--runs", "1", "--disturb", "windy"])
+    assert result.exit_code != 0
+    assert "unknown disturbance level 'windy'; levels: none, game, hard" in result.output
+    assert "Traceback" not in result.output
