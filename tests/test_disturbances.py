@@ -23,6 +23,7 @@ from mimic.world.mujoco_world import MujocoWorld
 
 # A short course (5 m of the study's 15 m) keeps each run a few seconds of wall time.
 SHORT = dict(start_x_m=-15.0, finish_x_m=-12.0)
+GAME = WalkTrialConfig(disturb="game", **SHORT)
 
 
 def _standing_nao() -> MujocoWorld:
@@ -79,7 +80,7 @@ def test_game_draws_repeat_per_seed_and_none_draws_nothing():
 
 def test_game_runs_get_pushed_and_differ_more_than_undisturbed_ones():
     spec = AgentSpec("behaviour", "walk")
-    game = [run_walk_episode(spec, s, WalkTrialConfig(**SHORT))[0][0] for s in range(3)]
+    game = [run_walk_episode(spec, s, GAME)[0][0] for s in range(3)]
     calm = [
         run_walk_episode(spec, s, WalkTrialConfig(disturb="none", **SHORT))[0][0] for s in range(3)
     ]
@@ -94,7 +95,7 @@ def test_game_runs_get_pushed_and_differ_more_than_undisturbed_ones():
             abs(g["y_end_m"] - c["y_end_m"]) > 0.005 or abs(g["speed_m_s"] - c["speed_m_s"]) > 0.002
         )
     # The same seed repeats exactly.
-    again = run_walk_episode(spec, 1, WalkTrialConfig(**SHORT))[0][0]
+    again = run_walk_episode(spec, 1, GAME)[0][0]
     assert again == game[1]
 
 
@@ -133,7 +134,7 @@ def test_hard_level_feeds_the_agent_noisy_sensors_but_measures_the_truth():
 
 def test_a_trial_reports_each_ratio_with_its_interval_and_the_level():
     spec = AgentSpec("behaviour", "walk")
-    result = walk_trial([spec, spec], runs=3, seed=2, workers=1, config=WalkTrialConfig(**SHORT))
+    result = walk_trial([spec, spec], runs=3, seed=2, workers=1, config=GAME)
     row = result.summary.row(1, named=True)
     assert row["disturb"] == "game"
     # The same variant twice on the same seeds: the same runs, a ratio of exactly 1.
@@ -165,9 +166,9 @@ def test_ratio_interval_covers_the_true_ratio_about_95_percent_of_the_time():
 def test_a_league_server_refuses_pushes_in_one_line():
     spec = AgentSpec("behaviour", "other-team-walk", robot="t1")
     with pytest.raises(MimicError, match="--disturb none"):
-        check_trial("walk", [spec], runs=1, config=WalkTrialConfig(world="league"))
+        check_trial("walk", [spec], runs=1, config=WalkTrialConfig(world="league", disturb="game"))
     check_trial("walk", [spec], runs=1, config=WalkTrialConfig(world="league", disturb="none"))
-    check_trial("walk", [spec], runs=1, config=WalkTrialConfig(world="league-like"))
+    check_trial("walk", [spec], runs=1, config=WalkTrialConfig(world="league-like", disturb="game"))
 
 
 def test_unknown_level_is_one_clear_line():
@@ -175,3 +176,31 @@ def test_unknown_level_is_one_clear_line():
     assert result.exit_code != 0
     assert "unknown disturbance level 'windy'; levels: none, game, hard" in result.output
     assert "Traceback" not in result.output
+
+
+def test_the_cli_defaults_to_game_where_it_can_push_and_none_on_a_league_server():
+    from mimic.cli.trial import _disturb
+
+    assert _disturb(None, "mujoco") == "game" and _disturb(None, "league-like") == "game"
+    assert _disturb(None, "league") == "none"
+    assert _disturb("hard", "mujoco") == "hard"
+
+
+def test_the_dashboard_shows_each_push_of_the_replayed_run(tmp_path, rerun_cli):
+    import subprocess
+
+    from mimic.viz.trials import save_trial_dashboard
+
+    spec = AgentSpec("behaviour", "walk")
+    config = WalkTrialConfig(disturb="hard", start_x_m=-15.0, finish_x_m=-11.0)
+    result = walk_trial([spec], runs=1, seed=4, workers=1, config=config, trace=True)
+    trace = result.traces["walk"]
+    assert len(trace.pushes) == result.rows["pushes"][0] >= 1
+    start_s, force_n, duration_s = trace.pushes[0]
+    assert np.linalg.norm(force_n) > 0 and force_n[2] == 0 and duration_s == 0.1
+    rrd = tmp_path / "walk.rrd"
+    save_trial_dashboard(result, rrd)
+    text = subprocess.run(
+        [rerun_cli, "rrd", "print", str(rrd)], check=True, capture_output=True, text=True
+    ).stdout
+    assert "/world/replay/walk/push - data columns: [Arrows3D" in text

@@ -194,6 +194,11 @@ class EpisodeDisturbances:
             HoldPose(robot.stand_pose(), robot.name), max_s=delay, stop_when_done=False
         )
 
+    def traced(self, trace):
+        """An ``EpisodeTrace`` with this episode's pushes in it (for the replay)."""
+        duration = self.spec.push_duration_s
+        return replace(trace, pushes=tuple((t, f, duration) for t, f in self.pusher.pushed))
+
     def agent(self, agent: Agent) -> Agent:
         """``agent`` with noisy sensors (itself when there is no sensor noise)."""
         return NoisySensors(agent, self.spec, self._rng) if self.spec.sensors else agent
@@ -212,13 +217,16 @@ class EpisodeDisturbances:
             pushes=len(self.pusher.pushed),
             push_speed_m_s=self.push_speed_m_s if self.spec.pushes else 0.0,
             push_times_s=[t for t, _ in self.pusher.pushed],
-            push_directions_deg=[math.degrees(a) for _, a in self.pusher.pushed],
+            push_directions_deg=[
+                math.degrees(math.atan2(f[1], f[0])) for _, f in self.pusher.pushed
+            ],
         )
 
 
 class Pusher(Observer):
     """Pushes the torso at the episode's push times once ``arm``-ed (an observer of the runs
-    it should disturb). ``pushed``: (start time [s], direction [rad]) of every push begun."""
+    it should disturb). ``pushed``: (start time [s], force (3,) [N], field frame) of every
+    push begun; each lasts ``push_duration_s``."""
 
     def __init__(self, disturbances: EpisodeDisturbances) -> None:
         self._d = disturbances
@@ -246,7 +254,7 @@ class Pusher(Observer):
             size_n = world.robot_mass_kg() * self._d.push_speed_m_s / s.push_duration_s
             self._force = size_n * np.array([math.cos(angle), math.sin(angle), 0.0])
             world.push_torso(self._force)
-            self.pushed.append((t, angle))
+            self.pushed.append((t, self._force.copy()))
             self._until_s = t + s.push_duration_s - 1e-9
             self._next_s = t + s.push_duration_s + self._gap()
 

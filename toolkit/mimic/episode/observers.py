@@ -66,7 +66,8 @@ class EpisodeTrace:
     """Poses of one episode in the field frame.
 
     times_s: (T,) simulated time [s]; body_pos_m: (T, B, 3); body_quat_wxyz: (T, B, 4), bodies
-    in ``body_names`` order; ball_pos_m: (T, 3).
+    in ``body_names`` order; ball_pos_m: (T, 3); pushes: (start time [s], force (3,) [N] in
+    the field frame, duration [s]) of every push on the torso (``episode.disturbance``).
     """
 
     times_s: np.ndarray
@@ -74,6 +75,7 @@ class EpisodeTrace:
     body_pos_m: np.ndarray
     body_quat_wxyz: np.ndarray
     ball_pos_m: np.ndarray
+    pushes: tuple[tuple[float, np.ndarray, float], ...] = ()
 
     def poses(self) -> dict[str, tuple[np.ndarray, np.ndarray]]:
         """``{body: (positions (T, 3), quats (T, 4))}``, the form ``viz.scene`` logs."""

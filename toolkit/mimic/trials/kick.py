@@ -352,5 +352,5 @@ def _play_kick_episode(
             {k: summary[k] for k in ("disturb", "friction_scale", "mass_scale", "start_delay_s")}
         )
     if trace is not None:
-        summary["trace"] = trace.trace()
+        summary["trace"] = disturb.traced(trace.trace())
     return rows, summary

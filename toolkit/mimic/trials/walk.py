@@ -122,5 +122,5 @@ def _play_walk_episode(
         ],
         **disturb.columns(),
     )
-    summary = dict(row, trace=trace.trace()) if trace is not None else row
+    summary = dict(row, trace=disturb.traced(trace.trace())) if trace is not None else row
     return [row], summary

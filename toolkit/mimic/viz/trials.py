@@ -12,7 +12,7 @@ import rerun as rr
 import rerun.blueprint as rrb
 
 from mimic.robot.registry import DEFAULT_ROBOT
-from mimic.viz.paths import WORLD
+from mimic.viz.paths import TIMELINE, WORLD
 from mimic.viz.scene import (
     log_ball_poses,
     log_ball_shape,
@@ -78,6 +78,26 @@ def _log_replay(rec: rr.RecordingStream, name: str, trace) -> None:
     log_body_poses(rec, trace.times_s, trace.poses(), f"{root}/robot")
     log_ball_shape(rec, f"{root}/ball")
     log_ball_poses(rec, trace.times_s, trace.ball_pos_m, f"{root}/ball")
+    _log_pushes(rec, trace, f"{root}/push")
+
+
+#: Arrow length per newton of a push, on the replay [m/N].
+_PUSH_ARROW_M_PER_N = 0.02
+
+
+def _log_pushes(rec: rr.RecordingStream, trace, path: str) -> None:
+    """Each push on the torso as an arrow into it, shown while the push lasts."""
+    pushes = getattr(trace, "pushes", ())
+    if not pushes or not len(trace.times_s):
+        return
+    torso = trace.body_pos_m[:, 0]  # the robot's root link comes first
+    for start_s, force_n, duration_s in pushes:
+        at = torso[min(int(np.searchsorted(trace.times_s, start_s)), len(torso) - 1)]
+        vector = np.asarray(force_n) * _PUSH_ARROW_M_PER_N
+        rec.set_time(TIMELINE, duration=float(start_s))
+        rec.log(path, rr.Arrows3D(origins=[at - vector], vectors=[vector], colors=[(230, 60, 40)]))
+        rec.set_time(TIMELINE, duration=float(start_s + duration_s))
+        rec.log(path, rr.Clear(recursive=False))
 
 
 def log_trial(rec: rr.RecordingStream, result) -> None:
