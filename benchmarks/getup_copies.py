@@ -80,6 +80,7 @@ def trial(robot: str, side: str, copies: list[str], world: str, args, out: Path)
         "trial", "getup", "--compare", f"getup_{side}", *copies, "--robot", robot, "--world",
         world, "--runs", str(args.runs), "--seed", str(args.seed), "--workers",
         str(args.workers), "-o", str(out / f"{robot}_{side}_{world}.parquet"), "--force",
+        "--disturb", "none",
     )  # fmt: skip
     print("\n".join(lines), flush=True)
 

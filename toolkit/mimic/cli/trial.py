@@ -582,6 +582,7 @@ def getup(
     ray_address: Annotated[str | None, RAY_ADDRESS] = None,
     world: Annotated[str, WORLD] = "mujoco",
     robot: Annotated[str | None, ROBOT] = None,
+    disturb: Annotated[str | None, DISTURB] = None,
 ) -> None:
     """Get-up trial: the robot knocked down on its front or back gets up; success rate and
     time to stand, repeated."""
@@ -594,7 +595,7 @@ def getup(
     specs = _specs(
         variants, compare, motion, model, balance, 1.0, f"getup_{side or 'front'}", robot
     )
-    config = GetupTrialConfig(side=side, world=world)
+    config = GetupTrialConfig(side=side, world=world, disturb=_disturb(disturb, world))
     _check("getup", specs, out, save, force, runs=runs, seed=seed, workers=workers, config=config)
     with (
         open_executor(workers, ray, ray_address) as executor,

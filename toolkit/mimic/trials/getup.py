@@ -19,6 +19,7 @@ import numpy as np
 from mimic.agents.hold import HoldPose
 from mimic.agents.registry import AgentSpec
 from mimic.episode import Episode, PoseNoise, PoseTrace, Scene, run
+from mimic.episode.disturbance import EpisodeDisturbances
 from mimic.episode.observers import Observer, UprightLog
 from mimic.episode.scene import SETTLE_S
 from mimic.errors import MimicError
@@ -54,6 +55,9 @@ class GetupTrialConfig:
     world: str = "mujoco"
     # League only: the command that starts the server (None: ``python -m rcsssmj``).
     server_command: tuple[str, ...] | None = None
+    # Disturbance level (``episode.disturbance.DISTURB_LEVELS``): none, game or hard. The
+    # library's default is none (the undisturbed trial); ``mimic trial`` defaults to game.
+    disturb: str = "none"
 
     def __post_init__(self) -> None:
         if self.side is not None and self.side not in SIDES:
@@ -112,14 +116,19 @@ def run_getup_episode(
 def _play_getup_episode(
     world, getup: AgentSpec, seed: int, config: GetupTrialConfig
 ) -> tuple[list[dict], dict]:
+    disturb = EpisodeDisturbances(config.disturb, seed, world)
+    disturb.apply_physics(world)
     agent = getup.build()
     side = config.side_for(agent.start_posture)
     trace = PoseTrace() if config.trace else None
-    episode = Episode(world, observers=(trace,) if trace else ())
+    episode = Episode(world, observers=(trace, disturb.pusher) if trace else (disturb.pusher,))
     getup_scene(config, side).setup(world, np.random.default_rng(seed), observers=episode.watchers)
+    disturb.start_delay(episode, lying=True)
     log = UprightLog()
     highest = _Highest()
     t0 = world.time_s
+    disturb.pusher.arm(world)
+    agent = disturb.agent(agent)
     outcome = run(world, agent, max_s=config.timeout_s, observers=(*episode.watchers, log, highest))
     motion_s = world.time_s - t0
     last = agent.reference_rad
@@ -147,6 +156,7 @@ def _play_getup_episode(
         duration_s=world.time_s,
         falls=0 if upright else 1,
         world=world_kind(config.world),
+        **disturb.columns(),
     )
-    summary = dict(row, trace=trace.trace()) if trace is not None else row
+    summary = dict(row, trace=disturb.traced(trace.trace())) if trace is not None else row
     return [row], summary

@@ -164,6 +164,7 @@ def getup_summary(label: str, batch: EpisodeBatch) -> dict:
         simulated_min=batch.simulated_s / 60,
         world=_first(runs, "world"),
         side=_first(runs, "side"),
+        disturb=_first(runs, "disturb"),
     )
 
 
