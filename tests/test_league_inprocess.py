@@ -26,8 +26,8 @@ from mimic.agents.registry import agent_spec
 from mimic.cli.main import app
 from mimic.episode import Scene
 from mimic.episode.scene import SETTLE_S
-from mimic.league.client import format_command, parse_perception
-from mimic.league.inprocess import LeagueInProcessWorld, wire_targets_rad
+from mimic.league.client import format_command, parse_perception, wire_targets_rad
+from mimic.league.inprocess import LeagueInProcessWorld
 from mimic.league.names import wire_names
 from mimic.league.world import LeagueWorld
 from mimic.robot.actuators import JointCommand

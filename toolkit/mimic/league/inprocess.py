@@ -34,34 +34,35 @@ without sockets, threads or text:
 * **Play mode.** The game stays in ``BeforeKickOff`` as on a hosted server: motors obey, the
   referee penalises nobody, a ball over a line is put back on it, a goal changes the mode.
 
+* **Time.** ``time_s`` counts cycles since ``reset``, which starts on an even cycle as
+  ``LeagueWorld``'s does (one step holding the joints, if needed), so both take the same steps.
+
 The player joins after one cycle of the empty field (rcsssmj 0.2.1's audio engine fails on a
-player joining before the first cycle), like a player joining a fresh server. Its motor
-controls start at zero (a server's start uninitialised until the first command). The audio
-step is skipped: nobody speaks, and it changes nothing but what a microphone hears.
+player joining before the first cycle), like a player joining a fresh server. Three changes to
+rcsssmj's objects alter no result (``simulation.LeagueSimulation``): no audio step once the player is in
+(nobody speaks; it changes only what a microphone hears), the ball's touches found through a
+table made once per model, and a joining robot's controls zeroed (a server leaves them
+uninitialised until the first command, and MuJoCo warns about them into ``MUJOCO_LOG.TXT``).
+
+A seeded episode gives the same perceptions as on a hosted server, bit for bit; the true state
+agrees to about 1e-13, as closely as two fresh servers agree with each other
+(``tests/test_league_inprocess.py``).
 """
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
 import mujoco
 import numpy as np
-from rcsssmj.games.soccer.game_phase import GamePhase
 from rcsssmj.games.soccer.server.soccer_command_parser import SoccerCommandParser
-from rcsssmj.games.soccer.sim.soccer_ball import SoccerBall
-from rcsssmj.games.soccer.sim.soccer_referee import SoccerReferee
-from rcsssmj.games.soccer.sim.soccer_sim import SoccerSimulation
-from rcsssmj.games.soccer.soccer_fields import create_soccer_field
-from rcsssmj.games.soccer.soccer_rules import SoccerRuleBooks, create_soccer_rule_book
-from rcsssmj.sim.agent_id import decode_agent_prefix
-from rcsssmj.sim.audio_engine import a_forward, a_recompile
 
-from mimic.league.client import Perception
+from mimic.league.client import Perception, wire_targets_rad
 from mimic.league.errors import LeagueError
 from mimic.league.monitor import place_ball_command, place_player_command
 from mimic.league.names import wire_names
 from mimic.league.senses import Senses
+from mimic.league.simulation import LeagueSimulation
 from mimic.league.world import LeagueWorldConfig, lowest_point_m
 from mimic.robot.actuators import JointCommand, PDMotors
 from mimic.robot.model import RobotDescription
@@ -77,7 +78,7 @@ from mimic.world.base import (
 )
 from mimic.world.league_field import league_field
 
-__all__ = ["LeagueInProcessWorld", "InProcessConfig", "wire_targets_rad"]
+__all__ = ["LeagueInProcessWorld", "InProcessConfig"]
 
 _SERVER = LeagueWorldConfig()
 
@@ -95,9 +96,6 @@ class InProcessConfig:
     place_timeout_s: float = _SERVER.place_timeout_s
     # How close the perceived torso must be to where it was put to count as placed [m].
     place_tolerance_m: float = _SERVER.place_tolerance_m
-    # Rule book (ssim, ssim26, fifa) and field version; None: the server's defaults.
-    rules: str | None = None
-    field: str | None = None
 
 
 @dataclass(frozen=True)
@@ -109,81 +107,15 @@ class _Joining:
     player_no: int
 
 
-class _Ball(SoccerBall):
-    """rcsssmj's ball; who touches it (for the referee) found through a table of the geoms'
-    owners made once per model, not a name lookup per contact each cycle. The same result
-    as ``SoccerBall.post_step`` (``filter_agent_contacts_with``), in the same order."""
-
-    def bind(self, mj_model, mj_data) -> None:
-        super().bind(mj_model, mj_data)
-        self._geom = mujoco.mj_name2id(mj_model, mujoco.mjtObj.mjOBJ_GEOM, "ball")
-        names = [
-            mujoco.mj_id2name(mj_model, mujoco.mjtObj.mjOBJ_GEOM, g) for g in range(mj_model.ngeom)
-        ]
-        self._owner = [(decode_agent_prefix(n) if n else None, n) for n in names]
-
-    def post_step(self, mj_model, mj_data) -> None:
-        pairs = mj_data.contact.geom.tolist()  # (ncon, 2) geom ids
-        ball = self._geom
-        others = [a for a, b in pairs if b == ball] + [b for a, b in pairs if a == ball]
-        contacts: dict = {}
-        for g in others:
-            agent, name = self._owner[g]
-            if agent is not None:
-                contacts.setdefault(agent, set()).add(name)
-        # SoccerBall.post_step from here on
-        if contacts:
-            if self._active_contact not in contacts:
-                active = next(iter(contacts))
-                self._set_active_contact(active, contacts[active], mj_data.time)
-            else:
-                self._active_contact_body_parts = contacts[self._active_contact]
-        else:
-            self._set_active_contact(None, None, mj_data.time)
-
-
-class _Simulation(SoccerSimulation):
-    """rcsssmj's soccer simulation with changes that alter no result: a step skips the audio
-    engine once the player is in (nobody speaks here); a recompiled model's controls start at
-    zero (``MjSpec.recompile`` leaves a joining robot's uninitialised, and MuJoCo then warns
-    about them into ``MUJOCO_LOG.TXT`` in the working directory); the ball is ``_Ball``."""
-
-    hearing = True
-
-    def __init__(self, *args, **kwargs) -> None:
-        super().__init__(*args, **kwargs)
-        self.ball = _Ball()
-
-    def step(self, monitor_commands) -> None:
-        if self.hearing:
-            super().step(monitor_commands)
-            return
-        # BaseSimulation.step without a_step: pre-step, physics, post-step (monitor commands,
-        # referee), frame count.
-        self._pre_step()
-        mujoco.mj_step(self._mj_model, self._mj_data, self.n_substeps)
-        self._post_step(monitor_commands)
-        self._frame_id += 1
-
-    def _recompile(self) -> None:
-        # BaseSimulation._recompile, the controls zeroed before the first forward pass.
-        self._last_recompilation = self._frame_id
-        self._mj_model, self._mj_data = self._mj_spec.recompile(self._mj_model, self._mj_data)
-        self._mj_data.ctrl[:] = 0.0
-        mujoco.mj_forward(self._mj_model, self._mj_data)
-        self._a_data = a_recompile(self._mj_spec, self._a_data)
-        a_forward(self._a_data, self._mj_data)
-        for obj in self.sim_objects:
-            obj.bind(self._mj_model, self._mj_data)
-        self._update_body_children_map()
-
-
 class LeagueInProcessWorld(World):
     """One player in rcsssmj's soccer simulation, stepped in this process.
 
     Args:
         robot: the robot our player is (a league robot; default ``t1``).
-        config: team, number, placement settings, rule book and field.
+        config: team, number and placement settings.
+
+    The rule book and field are the server's defaults (``rcssservermj`` without ``--rules``
+    or ``--field``), as ``league_field()`` describes them.
     """
 
     command_delay_cycles = LEAGUE_COMMAND_DELAY_CYCLES
@@ -199,13 +131,7 @@ class LeagueInProcessWorld(World):
         self.config = config
         self.field = league_field()
         names = wire_names(self.robot)
-        book = create_soccer_rule_book(config.rules or SoccerRuleBooks.SSIM.value)
-        self._sim = _Simulation(
-            field=create_soccer_field(config.field or book.default_field_version.value),
-            rules=book,
-            referee=SoccerReferee(),
-            initial_game_phase=GamePhase.FIRST_HALF,
-        )
+        self._sim = LeagueSimulation()
         if not self._sim.init():
             raise LeagueError("rcsssmj could not build its soccer world")
         self._sim.step([])  # the empty field's first cycle, with its audio engine
@@ -253,7 +179,7 @@ class LeagueInProcessWorld(World):
         return self.config.player
 
     @property
-    def simulation(self) -> SoccerSimulation:
+    def simulation(self) -> LeagueSimulation:
         """rcsssmj's simulation this world steps (its ``mj_model``, ``mj_data``, referee)."""
         return self._sim
 
@@ -430,17 +356,3 @@ class LeagueInProcessWorld(World):
             k.xpos[self._link_ids].copy(),
             k.xquat[self._link_ids].copy(),
         )
-
-
-def wire_targets_rad(targets_rad: np.ndarray) -> np.ndarray:
-    """(N,) joint targets [rad] as a server reads them from ``client.format_command``'s text:
-    degrees with 4 decimals, back to radians (``math.radians(float(text))``). Vectorised with
-    the same arithmetic (``np.degrees`` and ``np.radians`` multiply by 180/pi and pi/180, as
-    ``math.radians`` does); should a value lie within 1e-6 of a rounding tie, or be too large
-    for the test, the values are formatted as text instead."""
-    scaled = targets_rad * (180 / math.pi) * 1e4  # the degrees x 1e4, within 5e-10 of exact
-    whole = np.rint(scaled)
-    if np.abs(scaled - whole).max() > 0.5 - 1e-6 or not np.abs(scaled).max() < 1e9:
-        degrees = np.degrees(targets_rad)
-        return np.radians([float(f"{q:.4f}") for q in degrees])
-    return whole / 1e4 * (math.pi / 180)  # k / 1e4: the double nearest k/10000, as float() reads
