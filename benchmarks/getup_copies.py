@@ -21,7 +21,7 @@ processes of the README's league block: the motion played on a server while ``mi
    T1's in our world made league-like (``--world league-like``: the league's solver and
    command delay), the NAO's in ours (``--validate 0``: the trial below is the validation).
 4. ``mimic trial getup --compare ORIGINAL REACHED COMPENSATED IMPROVED --runs R --seed S``:
-   the T1 in the league's server (``--world league``) and in ours, the NAO in ours.
+   the T1 in the league's simulation (``--world league``) and in ours, the NAO in ours.
 
 Seeds: development used trial seed 0 and improve seed 3; the reported tables use ``--seed``
 (default 1000), whose episodes nothing in development played.

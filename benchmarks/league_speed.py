@@ -1,12 +1,14 @@
 """How fast the league world runs beside our MuJoCo (NAO) world, in the same run.
 
 1. The same episode work in each world (``mimic bench league``): the robot placed behind the
-   ball, standing, kicking, standing while the ball rolls; the NAO and the T1 in our world,
-   the T1 in the league's (a server hosted for it). Real-time factors and CPU per simulated s.
+   ball, standing, kicking, standing while the ball rolls; the T1 in the league's simulation
+   in this process and on a hosted server, the T1 and the NAO in our world; beside bare
+   ``mj_step`` of the league's T1 model. Real-time factors and CPU per simulated s.
 2. Kick trials of ``--minutes`` simulated minutes on ``--workers`` workers: the NAO in our
-   world (walking to the ball) and the T1 in the league's (placed behind the ball; one server
-   per episode, so K workers run K servers). Acceptance for the league: 10 simulated minutes
-   in at most 5 min of wall time on 2 cores (>= 2x real time).
+   world (walking to the ball) and the T1 in the league's, in process and on hosted servers
+   (placed behind the ball; one server per episode, so K workers run K servers). Acceptance
+   for the hosted league: 10 simulated minutes in at most 5 min of wall time on 2 cores
+   (>= 2x real time).
 
     python benchmarks/league_speed.py                    # 2-minute trials
     python benchmarks/league_speed.py --minutes 10       # the acceptance run (~5 min)
@@ -37,7 +39,7 @@ def _trial(world: str, kick: str, robot: str, minutes: float, workers: int) -> s
     row = result.summary.row(0, named=True)
     simulated = row["simulated_min"] * 60
     return (
-        f"{world:7} {robot:4} {row['reach']:5} {row['episodes']:3} episodes "
+        f"{world:13} {robot:4} {row['reach']:5} {row['episodes']:3} episodes "
         f"{row['attempts']:4} kicks {simulated / 60:5.2f} sim min in {wall:6.1f} s wall: "
         f"{simulated / wall:5.1f}x real time"
     )
@@ -60,6 +62,7 @@ def main() -> None:
         print(f"kick trials, {args.minutes:g} simulated min, {args.workers} workers:")
         print(_trial("mujoco", "kick_right", "nao", args.minutes, args.workers))
         print(_trial("league", t1_kick, "t1", args.minutes, args.workers))
+        print(_trial("league-server", t1_kick, "t1", args.minutes, args.workers))
 
 
 if __name__ == "__main__":

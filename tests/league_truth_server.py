@@ -8,7 +8,7 @@ computed before the last physics step's integration, so the pose a frame shows i
 state one step earlier, ``qpos - timestep * qvel`` (Euler and implicit integrators both
 advance positions with the new velocity): ``shown`` holds that true state one step before the
 frame's time, ``qpos`` the state at the frame's time. Tests compare what mimic decodes with
-both.
+both. ``ball`` is the ball's free joint ``qpos`` at the frame's time (position, quaternion).
 """
 
 from __future__ import annotations
@@ -55,7 +55,10 @@ class TruthMonitor(SimMonitor):
                 "shown": shown,
                 "torso": [*map(float, d.xpos[torso]), *map(float, d.xquat[torso])],
             }
-        self._file.write(json.dumps({"t": float(d.time), "players": players}) + "\n")
+        ball = m.joint("ball-root")
+        ball_qpos = d.qpos[ball.qposadr[0] : ball.qposadr[0] + 7]
+        entry = {"t": float(d.time), "players": players, "ball": [*map(float, ball_qpos)]}
+        self._file.write(json.dumps(entry) + "\n")
 
     def shutdown(self) -> None:
         super().shutdown()

@@ -423,9 +423,9 @@ def test_walk_params_dataclass_is_frozen_so_candidates_never_share_state():
     assert dataclasses.is_dataclass(WalkParams) and WalkParams.__dataclass_params__.frozen
 
 
-def test_improve_plays_in_the_league_on_hosted_servers(tmp_path):
-    # Every episode, search and validation, on a league server of its own: the T1's own kick
-    # (a name the NAO does not have), cut to 6 s episodes; one joint searched.
+def test_improve_plays_in_the_league_world(tmp_path):
+    # Every episode, search and validation, in a league simulation of its own: the T1's own
+    # kick (a name the NAO does not have), cut to 6 s episodes; one joint searched.
     tiny_league_kick = KickObjective(
         episodes=1, search_limit_s=6.0, trial_config=KickTrialConfig(episode_limit_s=6.0)
     )
@@ -445,7 +445,7 @@ def test_improve_plays_in_the_league_on_hosted_servers(tmp_path):
     summary = run.validation.summary
     assert summary["world"].to_list() == ["league", "league"]
     assert summary["reach"].to_list() == ["place", "place"]
-    assert summary["attempts"].min() >= 1  # both kicked, in the league's server
+    assert summary["attempts"].min() >= 1  # both kicked, in the league's simulation
     improved = load_motion(str(tmp_path / "k.txt"), "t1")
     assert improved.robot == "t1"
     assert "robot t1" in (tmp_path / "k.txt").read_text()

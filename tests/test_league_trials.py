@@ -1,5 +1,6 @@
-"""Trials in the league world, on real servers mimic hosts (one per episode), and the black-box
-recorder's only channel to another team's process.
+"""Trials in the league world: its simulation in process (``league``) and on real servers mimic
+hosts, one per episode (``league-server``); and the black-box recorder's only channel to
+another team's process.
 
 Short budgets: a league episode here is cut at a few simulated seconds. The kick is the T1's
 shipped ``kick_right`` once there is one, else ``league_standin_kick.txt`` beside this file.
@@ -73,7 +74,7 @@ def test_league_episodes_on_two_workers_repeat_and_leave_no_server(tmp_path):
     wrapper, pids = tmp_path / "pid_server.py", tmp_path / "servers.txt"
     wrapper.write_text(PID_SERVER)
     config = KickTrialConfig(
-        world="league",
+        world="league-server",
         episode_limit_s=3.0,
         server_command=(sys.executable, str(wrapper), str(pids)),
     )
@@ -86,7 +87,7 @@ def test_league_episodes_on_two_workers_repeat_and_leave_no_server(tmp_path):
     while any(_alive(p) for p in started) and time.monotonic() < deadline:
         time.sleep(0.1)
     assert not any(_alive(p) for p in started)
-    assert [e["world"] for e in batch.episodes] == ["league"] * 2
+    assert [e["world"] for e in batch.episodes] == ["league-server"] * 2
     assert {e["reach"] for e in batch.episodes} == {"place"}
     assert batch.rows and all(r["ball_start_x_m"] > 10 for r in batch.rows)  # 15 m out
     again, _ = run_kick_episode(spec, derive_seed(4, 1), config)

@@ -41,9 +41,10 @@ SAVE = typer.Option("--save", help="Write the Rerun view to this .rrd file.", sh
 SAVE_OLD = typer.Option("--save-rrd", hidden=True)
 #: ``--world``: where episodes play (``trial``, ``improve``).
 WORLD = typer.Option(
-    help="Where episodes play: mujoco (ours; also 'nao'), league (a "
-    "league server mimic hosts per episode: sync, no real time, free ports) or league-like "
-    "(ours with the league's solver and command delay)."
+    help="Where episodes play: mujoco (ours; also 'nao'), league (the league server's own "
+    "simulation, stepped in this process), league-server (a league server mimic hosts per "
+    "episode: sync, no real time, free ports) or league-like (ours with the league's solver "
+    "and command delay)."
 )
 #: ``--robot``: whose motion or engine a name means (``trial``, ``improve``).
 ROBOT = typer.Option(

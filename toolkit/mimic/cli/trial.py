@@ -272,7 +272,8 @@ def _world_text(result) -> str:
     the robot reached the ball."""
     row = result.summary.row(0, named=True)
     world = {
-        "league": "league world (RCSSServerMJ)",
+        "league": "league world (RCSSServerMJ's simulation, in process)",
+        "league-server": "league world (RCSSServerMJ server)",
         "mujoco": "our MuJoCo world",
         "league-like": "our MuJoCo world with the league's solver and command delay",
     }.get(row.get("world"), "our MuJoCo world")
@@ -627,8 +628,9 @@ def _bench_league(
         ),
     ] = None,
 ) -> None:
-    """Real-time factor of the league world beside our MuJoCo world's, the same work in one
-    run (stand, kick, stand while the ball rolls)."""
+    """Speed of the league world in process, on a hosted server and of our MuJoCo world, the
+    same work in one run (stand, kick, stand while the ball rolls), beside bare MuJoCo
+    stepping of the league's T1 model."""
     from mimic import options
     from mimic.trials.world_speed import bench_worlds, format_world_speeds
 
@@ -636,10 +638,11 @@ def _bench_league(
     rows = bench_worlds(seconds=seconds, kicks={"t1": kick} if kick else None)
     console.print(format_world_speeds(rows), highlight=False)
     console.print(
-        "RTF: simulated s per wall s; +start: the same with opening and closing the "
-        "world (the league's: hosting and joining a server, once per trial episode); "
-        "CPU/sim: CPU s per simulated s, the server's included; ratio: RTF / the "
-        "first's.",
+        "bare: mj_step of the league's T1 model alone; league: its simulation in this "
+        "process; league-server: a hosted server. RTF: simulated s per wall s; +start: the "
+        "same with opening and closing the world (the server's: hosting and joining it, once "
+        "per trial episode); CPU/sim: CPU s per simulated s, the server's included; xbare: "
+        "simulated s per CPU s as a ratio of bare stepping's.",
         style="dim",
         highlight=False,
     )

@@ -102,10 +102,10 @@ def improve(
     score on the held-out episodes) is not kept: ``out`` then holds the starting point
     (``run.kept_start``), unless ``keep_worse``.
     ``before_search(target, objective, population)`` is called once the inputs are checked.
-    ``world`` (``mujoco`` or ``league``; default: the objective's trial settings, ours) is
-    where every episode plays, search and validation alike; ``robot`` (default: the NAO in
-    ours, the T1 in the league's; a model file says its own) is whose motion or engine a name
-    means.
+    ``world`` (``mujoco``, ``league``, ``league-server`` or ``league-like``; default: the
+    objective's trial settings, ours) is where every episode plays, search and validation
+    alike; ``robot`` (default: the NAO in ours, the T1 in the league's; a model file says its
+    own) is whose motion or engine a name means.
 
     Raises:
         MimicError: bad target, objective, budget, out suffix, checkpoint, Ray address, world,

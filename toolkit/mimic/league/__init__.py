@@ -6,6 +6,8 @@
   stream and referee commands; ``rsmp``: full and diff frames of the scene graph.
 * ``decode``: joint angles and link poses from the scene graph through the robot's tree.
 * ``world``: ``LeagueWorld``, the world interface on a server (episodes run unchanged).
+* ``inprocess``: ``LeagueInProcessWorld``, the same world with the server's own simulation
+  stepped in this process (``simulation``: rcsssmj's, ``senses``: its perceptions from MjData).
 * ``play``: any agent as a team process; ``blackbox``: record another team's player from
   the monitor stream; ``game_log``: the same from ``--logfile`` game logs.
 
@@ -21,6 +23,9 @@ __all__ = [
     "rsmp",
     "decode",
     "world",
+    "inprocess",
+    "simulation",
+    "senses",
     "play",
     "blackbox",
     "game_log",

@@ -25,7 +25,7 @@ from mimic.league.rsmp import is_rsmp
 from mimic.robot.actuators import JointCommand, PDMotors
 from mimic.robot.model import RobotDescription
 
-__all__ = ["AgentClient", "Perception", "parse_perception", "format_command"]
+__all__ = ["AgentClient", "Perception", "parse_perception", "format_command", "wire_targets_rad"]
 
 #: How long to wait for the server's first perception after ``init`` [s].
 FIRST_PERCEPTION_TIMEOUT_S = 10.0
@@ -129,6 +129,20 @@ def format_command(command: JointCommand, robot: RobotDescription, names: WireNa
     return "".join(
         f"({e} {q:.4f} 0 {p:g} {d:g} 0)" for e, q, p, d in zip(names.effectors, target, kp, kd)
     ).encode()
+
+
+def wire_targets_rad(targets_rad: np.ndarray) -> np.ndarray:
+    """(N,) joint targets [rad] as a server reads them from ``client.format_command``'s text:
+    degrees with 4 decimals, back to radians (``math.radians(float(text))``). Vectorised with
+    the same arithmetic (``np.degrees`` and ``np.radians`` multiply by 180/pi and pi/180, as
+    ``math.radians`` does); should a value lie within 1e-6 of a rounding tie, or be too large
+    for the test, the values are formatted as text instead."""
+    scaled = targets_rad * (180 / math.pi) * 1e4  # the degrees x 1e4, within 5e-10 of exact
+    whole = np.rint(scaled)
+    if np.abs(scaled - whole).max() > 0.5 - 1e-6 or not np.abs(scaled).max() < 1e9:
+        degrees = np.degrees(targets_rad)
+        return np.radians([float(f"{q:.4f}") for q in degrees])
+    return whole / 1e4 * (math.pi / 180)  # k / 1e4: the double nearest k/10000, as float() reads
 
 
 class AgentClient:

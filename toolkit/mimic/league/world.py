@@ -59,7 +59,7 @@ from mimic.world.base import (
 )
 from mimic.world.league_field import league_field
 
-__all__ = ["LeagueWorld", "LeagueWorldConfig"]
+__all__ = ["LeagueWorld", "LeagueWorldConfig", "lowest_point_m"]
 
 
 @dataclass(frozen=True)
@@ -228,7 +228,7 @@ class LeagueWorld(World):
             else self.robot.check_vector(joint_angles_rad, "start pose")
         )
         quat = posture_quat(yaw_rad, posture)
-        z = self.config.drop_clearance_m - _lowest_point_m(self.robot, tuple(quat))
+        z = self.config.drop_clearance_m - lowest_point_m(self.robot, tuple(quat))
         self._command(lambda: monitor.place_player(self.team, self.player, (x_m, y_m, z), quat))
         hold = JointCommand.references(pose)
         for _ in range(max(1, round(self.config.place_timeout_s / CYCLE_S))):
@@ -338,7 +338,7 @@ class LeagueWorld(World):
 
 
 @cache
-def _lowest_point_m(robot: RobotDescription, quat_wxyz: tuple[float, ...]) -> float:
+def lowest_point_m(robot: RobotDescription, quat_wxyz: tuple[float, ...]) -> float:
     """Height of the robot's lowest collision point below its root origin, zero pose, root
     turned by ``quat_wxyz`` [m] (negative: below)."""
     m = load_model(robot.mjcf_path)

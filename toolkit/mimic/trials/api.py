@@ -265,8 +265,9 @@ def kick_trial(
     """Kick trial of each variant for ``minutes`` simulated minutes under the same seeds
     (whole episodes that end within the budget).
 
-    ``world``: where the episodes play (``mujoco`` or ``league``; None: ``config.world``);
-    in the league every episode hosts its own server (``trials.worlds``).
+    ``world``: where the episodes play (``mujoco``, ``league``, ``league-server`` or
+    ``league-like``; None: ``config.world``); on ``league-server`` every episode hosts its own
+    server (``trials.worlds``).
 
     ``trace``: keep the first episode of each variant as a pose trace (``result.traces``).
     ``executor``: where episodes run (``trials.executors``: pool or Ray); default a pool of

@@ -51,9 +51,10 @@ class GetupTrialConfig:
     start_noise_joint_rad: float = math.radians(1)
     # Keep a pose trace of the episode for the Rerun replay.
     trace: bool = False
-    # Where episodes play (``trials.worlds``): ``mujoco`` (ours) or ``league`` (RCSSServerMJ).
+    # Where episodes play (``trials.worlds``): ``mujoco`` (ours), ``league`` (RCSSServerMJ's
+    # simulation in this process), ``league-server`` (a hosted server) or ``league-like``.
     world: str = "mujoco"
-    # League only: the command that starts the server (None: ``python -m rcsssmj``).
+    # ``league-server`` only: the command that starts the server (None: ``python -m rcsssmj``).
     server_command: tuple[str, ...] | None = None
     # Disturbance level (``episode.disturbance.DISTURB_LEVELS``): none, game or hard. The
     # library's default is none (the undisturbed trial); ``mimic trial`` defaults to game.

@@ -67,7 +67,8 @@ class KickTrialConfig:
     start_noise_joint_rad: float = math.radians(1)
     # Keep a pose trace of the episode (robot bodies and ball) for the Rerun replay.
     trace: bool = False
-    # Where episodes play (``trials.worlds``): ``mujoco`` (ours) or ``league`` (RCSSServerMJ).
+    # Where episodes play (``trials.worlds``): ``mujoco`` (ours), ``league`` (RCSSServerMJ's
+    # simulation in this process), ``league-server`` (a hosted server) or ``league-like``.
     world: str = MUJOCO
     # How the robot reaches the ball (``REACH_METHODS``); ``auto``: walk for the NAO in our
     # world, place otherwise (the walk engine is the NAO's).
@@ -75,7 +76,7 @@ class KickTrialConfig:
     # The ball's first spot lies this far before the opponent goal line, on the field's axis
     # [m] (15 m: the study's centre spot).
     start_goal_distance_m: float = 15.0
-    # League only: the command that starts the server (None: ``python -m rcsssmj``).
+    # ``league-server`` only: the command that starts the server (None: ``python -m rcsssmj``).
     server_command: tuple[str, ...] | None = None
     # A kick succeeds when the ball travels farther than this [m] (the study's 2 m; a shorter
     # kick, such as the T1 other team's 1 m kick inside its walk, needs its own rule).

@@ -16,7 +16,7 @@ from mimic.agents.registry import AgentSpec
 from mimic.episode import Episode, PoseNoise, PoseTrace, Scene
 from mimic.episode.disturbance import EpisodeDisturbances
 from mimic.episode.scene import SETTLE_S
-from mimic.trials.worlds import LEAGUE, MUJOCO, open_world, world_kind
+from mimic.trials.worlds import LEAGUE_WORLDS, MUJOCO, open_world, world_kind
 from mimic.world import field as F
 
 __all__ = ["WalkTrialConfig", "run_walk_episode", "walk_scene", "LEAGUE_COURSE_M"]
@@ -41,9 +41,10 @@ class WalkTrialConfig:
     start_noise_joint_rad: float = math.radians(0.5)
     # Keep a pose trace of the episode (robot bodies and ball) for the Rerun replay.
     trace: bool = False
-    # Where episodes play (``trials.worlds``): ``mujoco`` (ours) or ``league`` (RCSSServerMJ).
+    # Where episodes play (``trials.worlds``): ``mujoco`` (ours), ``league`` (RCSSServerMJ's
+    # simulation in this process), ``league-server`` (a hosted server) or ``league-like``.
     world: str = MUJOCO
-    # League only: the command that starts the server (None: ``python -m rcsssmj``).
+    # ``league-server`` only: the command that starts the server (None: ``python -m rcsssmj``).
     server_command: tuple[str, ...] | None = None
     # Disturbance level (``episode.disturbance.DISTURB_LEVELS``): none, game or hard. The
     # library's default is none (the undisturbed trial); ``mimic trial`` defaults to game.
@@ -51,7 +52,7 @@ class WalkTrialConfig:
 
     def course_m(self) -> tuple[float, float]:
         """(start x, finish x) [m] in this trial's world."""
-        own = LEAGUE_COURSE_M if world_kind(self.world) == LEAGUE else (F.OWN_GOAL_X_M, 0.0)
+        own = LEAGUE_COURSE_M if world_kind(self.world) in LEAGUE_WORLDS else (F.OWN_GOAL_X_M, 0.0)
         return (
             own[0] if self.start_x_m is None else self.start_x_m,
             own[1] if self.finish_x_m is None else self.finish_x_m,

@@ -3,8 +3,10 @@
 The work is a kick trial's: the robot is placed behind the ball, stands, kicks, and stands
 while the ball rolls, again and again until ``seconds`` of simulated time have passed. Each
 world is timed from its first placement (``rtf``) and with its opening and closing included
-(``rtf_with_start``: for the league that is hosting and joining a server, once per episode in
-a trial). CPU seconds count this process and, for the league, the server process too.
+(``rtf_with_start``: for the hosted league server that is hosting and joining it, once per
+episode in a trial). CPU seconds count this process and, for the hosted server, the server
+process too. The baseline (``bench_bare``) is bare ``mj_step`` of the league's own model with
+the T1 standing in it: no agent, no world, nothing but MuJoCo.
 
     rows = bench_worlds(seconds=20)
     print(format_world_speeds(rows))
@@ -18,13 +20,26 @@ import time
 from dataclasses import dataclass
 from pathlib import Path
 
+import mujoco
 import numpy as np
 
 from mimic.agents.registry import agent_spec
 from mimic.episode import Episode, Scene
-from mimic.trials.worlds import LEAGUE, MUJOCO, open_world
+from mimic.trials.worlds import LEAGUE, LEAGUE_SERVER, MUJOCO, open_world
+from mimic.world.base import CYCLE_S
 
-__all__ = ["WorldSpeed", "bench_world", "bench_worlds", "format_world_speeds", "default_kick"]
+__all__ = [
+    "WorldSpeed",
+    "bench_world",
+    "bench_bare",
+    "bench_worlds",
+    "format_world_speeds",
+    "default_kick",
+    "BARE",
+]
+
+#: The baseline's name in the table: MuJoCo stepping the league's model, nothing else.
+BARE = "bare"
 
 #: Seconds one kick cycle lasts at most: stand, kick, stand while the ball rolls [s].
 _STAND_S, _KICK_MAX_S, _ROLL_S = 0.5, 6.0, 3.0
@@ -62,6 +77,11 @@ class WorldSpeed:
     @property
     def cpu_per_simulated_s(self) -> float:
         return self.cpu_s / self.simulated_s
+
+    @property
+    def simulated_per_cpu_s(self) -> float:
+        """Simulated seconds per CPU second."""
+        return self.simulated_s / self.cpu_s
 
 
 def default_kick(robot: str) -> str | None:
@@ -123,32 +143,59 @@ def bench_world(
     return WorldSpeed(world, robot, kick or "stand", simulated, wall, opened_s + closed_s, cpu)
 
 
+def bench_bare(robot: str = "t1", *, seconds: float = 20.0) -> WorldSpeed:
+    """Time bare ``mj_step`` of the league's model (rcsssmj's, as the league world compiles it
+    with ``robot`` in it) for ``seconds`` of simulated time: the robot standing behind the
+    ball, holding its stand pose, 4 physics steps per cycle as the league steps them."""
+    from mimic.robot.actuators import JointCommand
+
+    with open_world(LEAGUE, robot) as w:
+        Scene(robot_xy_m=(-0.3, 0.0), ball_offset_m=(0.3, 0.0), settle_s=_STAND_S).setup(
+            w, np.random.default_rng(0)
+        )
+        w.step(JointCommand.references(w.robot.stand_pose()))  # its targets in the controls
+        model, data = w.simulation.mj_model, w.simulation.mj_data
+        substeps = round(CYCLE_S / model.opt.timestep)
+        cycles = max(1, round(seconds / CYCLE_S))
+        cpu0, t0 = time.process_time(), time.perf_counter()
+        for _ in range(cycles):
+            mujoco.mj_step(model, data, substeps)
+        wall, cpu = time.perf_counter() - t0, time.process_time() - cpu0
+    return WorldSpeed(BARE, robot, "stand", cycles * CYCLE_S, wall, 0.0, cpu)
+
+
 def bench_worlds(
     seconds: float = 20.0, kicks: dict[str, str | None] | None = None
 ) -> list[WorldSpeed]:
-    """The same work in our world with the NAO, in our world with the T1 and in the league's
-    with the T1 (``kicks``: robot -> kick spec; default: each robot's shipped ``kick_right``)."""
+    """Bare stepping of the league's T1 model (the baseline), then the same work in the
+    league's simulation in this process, on a hosted league server, in our world with the T1
+    and in our world with the NAO (``kicks``: robot -> kick spec; default: each robot's
+    shipped ``kick_right``)."""
     kicks = dict(kicks or {})
     for robot in ("nao", "t1"):
         kicks.setdefault(robot, default_kick(robot))
-    runs = [(MUJOCO, "nao"), (MUJOCO, "t1"), (LEAGUE, "t1")]
-    return [bench_world(world, robot, kicks[robot], seconds=seconds) for world, robot in runs]
+    runs = [(LEAGUE, "t1"), (LEAGUE_SERVER, "t1"), (MUJOCO, "t1"), (MUJOCO, "nao")]
+    return [bench_bare("t1", seconds=seconds)] + [
+        bench_world(world, robot, kicks[robot], seconds=seconds) for world, robot in runs
+    ]
 
 
 def format_world_speeds(rows: list[WorldSpeed]) -> str:
     """A table under 80 columns: real-time factor (RTF), with the world's start (+start), CPU
-    seconds per simulated second, and the RTF as a ratio of the first row's."""
-    base = rows[0].rtf if rows else math.nan
+    seconds per simulated second, and simulated seconds per CPU second as a ratio of the bare
+    stepping row's (the first ``BARE`` row; else the first row's)."""
+    base = next((r for r in rows if r.world == BARE), rows[0] if rows else None)
+    per_cpu = base.simulated_per_cpu_s if base else math.nan
     lines = [
-        f"{'world':7} {'robot':5} {'kick':16} {'sim s':>6} {'wall s':>7} {'RTF':>6} "
-        f"{'+start':>6} {'CPU/sim':>7} {'ratio':>5}"
+        f"{'world':13} {'robot':5} {'kick':14} {'sim s':>5} {'wall s':>6} {'RTF':>5} "
+        f"{'+start':>6} {'CPU/sim':>7} {'xbare':>5}"
     ]
     for r in rows:
         kick = Path(r.kick).stem if r.kick.endswith(".txt") else r.kick
-        kick = kick if len(kick) <= 16 else kick[:15] + "~"
+        kick = kick if len(kick) <= 14 else kick[:13] + "~"
         lines.append(
-            f"{r.world:7} {r.robot:5} {kick:16} {r.simulated_s:6.1f} {r.wall_s:7.2f} "
-            f"{r.rtf:6.1f} {r.rtf_with_start:6.1f} {r.cpu_per_simulated_s:7.3f} "
-            f"{r.rtf / base:5.2f}"
+            f"{r.world:13} {r.robot:5} {kick:14} {r.simulated_s:5.1f} {r.wall_s:6.2f} "
+            f"{r.rtf:5.1f} {r.rtf_with_start:6.1f} {r.cpu_per_simulated_s:7.4f} "
+            f"{r.simulated_per_cpu_s / per_cpu:5.2f}"
         )
     return "\n".join(lines)

@@ -1,21 +1,28 @@
-"""Where a trial's episodes play: our MuJoCo world or the league's server (RCSSServerMJ).
+"""Where a trial's episodes play: our MuJoCo world or the league's simulation (RCSSServerMJ).
 
 Episode functions take their world from ``open_world(kind, robot)`` instead of building one:
 
 * ``mujoco``: our MuJoCo world (``MujocoWorld``), any robot (the NAO on the study's field,
   league robots on the league's field). ``nao`` is accepted as another name for it.
-* ``league``: a league world (``LeagueWorld``) on a server hosted for this episode alone: sync
-  mode, no real time, no render, free ports. The server is told to stop when the episode ends
-  (and reaped when the next one starts, or when the process exits), so K workers run at most
-  K servers, and a worker that is stopped takes its server with it (the server dies with the
-  process that started it).
+* ``league``: the league server's own simulation stepped in this process
+  (``LeagueInProcessWorld``): rcsssmj's soccer world, robot, referee and rules, the server's
+  order of operations and command delay, perceptions as the server sends them; no server
+  process. A fresh simulation per episode. A seeded episode gives the same perceptions, bit
+  for bit, as on a hosted server (``tests/test_league_inprocess.py``); the ball and body poses
+  are the simulation's own, not the monitor stream's view of them.
+* ``league-server``: a league world (``LeagueWorld``) on a real server hosted for this episode
+  alone: sync mode, no real time, no render, free ports. The server is told to stop when the
+  episode ends (and reaped when the next one starts, or when the process exits), so K workers
+  run at most K servers, and a worker that is stopped takes its server with it (the server
+  dies with the process that started it). Starting and joining a server costs about 1-2 s of
+  wall time per episode, and every cycle goes over TCP.
+* ``league-like``: our world with the league server's solver options and command delay.
 
-Why a fresh server per episode rather than one per worker: a league server keeps what earlier
-episodes did (MuJoCo's solver warm start, the referee's state, its clock), so an episode
-replayed on a used server differs from the same episode on a fresh one, and which episodes a
-worker happens to run would change the table. On a fresh server a seeded episode repeats (the
-robot's perceptions exactly; see ``tests/test_league_trials.py`` for what is checked). Starting
-and joining a server costs about 1-2 s of wall time per episode.
+Why a fresh simulation per episode rather than one per worker: a league simulation keeps what
+earlier episodes did (MuJoCo's solver warm start, the referee's state, its clock), so an
+episode replayed on a used one differs from the same episode on a fresh one, and which
+episodes a worker happens to run would change the table. On a fresh server a seeded episode
+repeats (the robot's perceptions exactly; see ``tests/test_league_trials.py``).
 """
 
 from __future__ import annotations
@@ -33,7 +40,9 @@ __all__ = [
     "WORLDS",
     "MUJOCO",
     "LEAGUE",
+    "LEAGUE_SERVER",
     "LEAGUE_LIKE",
+    "LEAGUE_WORLDS",
     "world_kind",
     "world_owns_physics",
     "open_world",
@@ -42,16 +51,22 @@ __all__ = [
 ]
 
 MUJOCO = "mujoco"
+#: The league's simulation in this process (``league.inprocess``).
 LEAGUE = "league"
+#: The league's server, hosted per episode, our player over TCP (``league.world``).
+LEAGUE_SERVER = "league-server"
 #: Ours with the league server's solver options and command delay (``world.league_like``).
 LEAGUE_LIKE = "league-like"
 #: The worlds a trial can play in.
-WORLDS = (MUJOCO, LEAGUE, LEAGUE_LIKE)
+WORLDS = (MUJOCO, LEAGUE, LEAGUE_SERVER, LEAGUE_LIKE)
+#: The worlds that are the league's simulation (its field, referee and league robots only).
+LEAGUE_WORLDS = (LEAGUE, LEAGUE_SERVER)
 _ALIASES = {"nao": MUJOCO}
 
 
 def world_kind(name: str) -> str:
-    """The world called ``name`` (``mujoco``, ``nao``: the same, or ``league``).
+    """The world called ``name`` (``mujoco``, ``nao``: the same, ``league``, ``league-server``
+    or ``league-like``).
 
     Raises:
         MimicError: an unknown name, with the known ones.
@@ -71,7 +86,7 @@ def world_owns_physics(kind: str) -> bool:
 def default_robot(kind: str) -> str:
     """The robot a trial in this world uses unless told: the NAO in ours, the T1 in the
     league's."""
-    return "t1" if world_kind(kind) in (LEAGUE, LEAGUE_LIKE) else "nao"
+    return "t1" if world_kind(kind) in (*LEAGUE_WORLDS, LEAGUE_LIKE) else "nao"
 
 
 def check_world(kind: str, robot: str) -> None:
@@ -81,12 +96,13 @@ def check_world(kind: str, robot: str) -> None:
         MimicError: it cannot, in one line naming the option to change.
     """
     description = get_robot(robot)
-    if world_kind(kind) == LEAGUE and description.world != "league":
+    kind = world_kind(kind)
+    if kind in LEAGUE_WORLDS and description.world != "league":
         raise MimicError(
             f"the league world plays league robots (t1, k1), not the {description.name}; "
-            "pass --robot t1, or leave out --world league"
+            f"pass --robot t1, or leave out --world {kind}"
         )
-    if world_kind(kind) == LEAGUE:
+    if kind in LEAGUE_WORLDS:
         import importlib.util
 
         if importlib.util.find_spec("rcsssmj") is None:
@@ -99,10 +115,16 @@ def open_world(
 ) -> Iterator[World]:
     """A world of this kind with this robot, closed (its server stopped) on exit.
 
-    ``server_command``: league only, how to start the server (None: ``python -m
+    ``server_command``: ``league-server`` only, how to start the server (None: ``python -m
     mimic.league.hosted_server``, rcsssmj with safe sends; tests wrap it).
     """
     kind = world_kind(kind)
+    if kind == LEAGUE:
+        from mimic.league.inprocess import LeagueInProcessWorld
+
+        with LeagueInProcessWorld(robot) as world:
+            yield world
+        return
     if kind == MUJOCO:
         from mimic.world.mujoco_world import MujocoWorld
 
