@@ -166,8 +166,13 @@ def test_ratio_interval_covers_the_true_ratio_about_95_percent_of_the_time():
 def test_a_league_server_refuses_pushes_in_one_line():
     spec = AgentSpec("behaviour", "other-team-walk", robot="t1")
     with pytest.raises(MimicError, match="--disturb none"):
-        check_trial("walk", [spec], runs=1, config=WalkTrialConfig(world="league", disturb="game"))
-    check_trial("walk", [spec], runs=1, config=WalkTrialConfig(world="league", disturb="none"))
+        check_trial(
+            "walk", [spec], runs=1, config=WalkTrialConfig(world="league-server", disturb="game")
+        )
+    check_trial(
+        "walk", [spec], runs=1, config=WalkTrialConfig(world="league-server", disturb="none")
+    )
+    check_trial("walk", [spec], runs=1, config=WalkTrialConfig(world="league", disturb="game"))
     check_trial("walk", [spec], runs=1, config=WalkTrialConfig(world="league-like", disturb="game"))
 
 
@@ -182,7 +187,8 @@ def test_the_cli_defaults_to_game_where_it_can_push_and_none_on_a_league_server(
     from mimic.cli.trial import _disturb
 
     assert _disturb(None, "mujoco") == "game" and _disturb(None, "league-like") == "game"
-    assert _disturb(None, "league") == "none"
+    assert _disturb(None, "league") == "game"  # in process
+    assert _disturb(None, "league-server") == "none"
     assert _disturb("hard", "mujoco") == "hard"
 
 
@@ -204,3 +210,31 @@ def test_the_dashboard_shows_each_push_of_the_replayed_run(tmp_path, rerun_cli):
         [rerun_cli, "rrd", "print", str(rrd)], check=True, capture_output=True, text=True
     ).stdout
     assert "/world/replay/walk/push - data columns: [Arrows3D" in text
+
+
+def test_the_league_world_in_process_takes_pushes_and_the_physics_spreads():
+    from mimic.league.inprocess import LeagueInProcessWorld
+
+    with LeagueInProcessWorld("t1") as world:
+        nominal = world.robot_mass_kg()
+        world.scale_physics(1.1, np.full(len(world.robot.links), 0.9))
+        assert world.robot_mass_kg() == pytest.approx(0.9 * nominal, rel=1e-9)
+        world.reset()
+        world.place_robot(0.0, 0.0, 0.0, world.robot.stand_pose())
+        hold = JointCommand.references(world.robot.stand_pose())
+        for _ in range(25):
+            world.step(hold)
+        before = world.torso_pos_m()
+        world.push_torso(np.array([0.0, world.robot_mass_kg() * 0.3 / 0.1, 0.0]))
+        for _ in range(5):
+            world.step(hold)
+        world.push_torso(np.zeros(3))
+        for _ in range(5):
+            world.step(hold)
+        moved = world.torso_pos_m() - before
+        assert moved[1] > 0.01 and abs(moved[0]) < moved[1], "pushed to its left"
+    spec = AgentSpec("behaviour", "other-team-walk", robot="t1")
+    config = WalkTrialConfig(world="league", disturb="game", start_x_m=-5.0, finish_x_m=-3.0)
+    row = run_walk_episode(spec, 3, config)[0][0]
+    assert row["world"] == "league" and row["disturb"] == "game"
+    assert row["friction_scale"] != 1.0 and row["mass_scale"] != 1.0

@@ -168,6 +168,8 @@ class LeagueInProcessWorld(World):
         self._ball_command: object | None = None
         self._perception = self._senses.read(d, self._play_mode())
         self._origin_cycle = self._cycle()
+        # Friction and masses as built, kept when an episode first scales them.
+        self._nominal: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None
 
     # --- lifecycle ------------------------------------------------------------------------
     @property
@@ -265,6 +267,37 @@ class LeagueInProcessWorld(World):
         pos = np.array([x_m, y_m, self.field.ball_radius_m])
         (self._ball_command,) = self._monitor(place_ball_command(pos))
         self._ball_target = pos
+
+    # --- disturbances (``episode.disturbance``) --------------------------------------------
+    can_disturb_physics = True
+
+    def scale_physics(self, friction_scale: float, link_mass_scales: np.ndarray) -> None:
+        m = self._sim.mj_model
+        if self._nominal is None:
+            self._nominal = (
+                m.geom_friction[:, 0].copy(),
+                m.body_mass.copy(),
+                m.body_inertia.copy(),
+            )
+        friction, mass, inertia = self._nominal
+        scales = np.asarray(link_mass_scales, dtype=float)
+        if scales.shape != self._link_ids.shape:
+            raise ValueError(f"{len(self._link_ids)} link mass scales expected, got {scales.shape}")
+        m.geom_friction[:, 0] = friction * friction_scale
+        m.body_mass[:], m.body_inertia[:] = mass, inertia
+        m.body_mass[self._link_ids] = mass[self._link_ids] * scales
+        m.body_inertia[self._link_ids] = inertia[self._link_ids] * scales[:, None]
+        # Derived constants as if compiled so; worked out on scratch data (the game goes on).
+        mujoco.mj_setConst(m, mujoco.MjData(m))
+
+    def push_torso(self, force_n: np.ndarray) -> None:
+        self._sim.mj_data.xfrc_applied[self._link_ids[0], :3] = force_n
+
+    def robot_mass_kg(self) -> float:
+        return float(self._sim.mj_model.body_subtreemass[self._link_ids[0]])
+
+    def describe(self) -> str:
+        return f"league world in process ({self.robot.name})"
 
     # --- stepping and sensing -------------------------------------------------------------
     def step(self, command: JointCommand) -> None:

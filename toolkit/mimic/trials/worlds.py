@@ -80,7 +80,7 @@ def world_kind(name: str) -> str:
 def world_owns_physics(kind: str) -> bool:
     """Episodes in this world can push the robot and change friction and masses (the
     physics runs in mimic's process)."""
-    return world_kind(kind) in (MUJOCO, LEAGUE_LIKE)
+    return world_kind(kind) in (MUJOCO, LEAGUE_LIKE, LEAGUE)
 
 
 def default_robot(kind: str) -> str:

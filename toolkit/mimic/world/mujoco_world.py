@@ -192,9 +192,9 @@ class MujocoWorld(World):
         m.body_mass[:], m.body_inertia[:] = mass, inertia
         m.body_mass[self._link_ids] = mass[self._link_ids] * scales
         m.body_inertia[self._link_ids] = inertia[self._link_ids] * scales[:, None]
-        # Derived constants (subtree masses, the solver's inverse weights) as if compiled so.
-        mujoco.mj_setConst(m, self.data)
-        self.reset()
+        # Derived constants (subtree masses, the solver's inverse weights) as if compiled so,
+        # worked out on scratch data.
+        mujoco.mj_setConst(m, mujoco.MjData(m))
 
     def push_torso(self, force_n: np.ndarray) -> None:
         self.data.xfrc_applied[self.torso_body_id, :3] = force_n
