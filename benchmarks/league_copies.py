@@ -21,10 +21,11 @@ command line):
    swing gains and the layer's tilt gains, scored by plain distance with falls penalised; N
    evaluations), written to ``DIR/kick_improved.mimic``; both join the kick trial.
 4. ``mimic trial walk ... --world league --minutes M`` and ``mimic trial kick ... --world
-   league --minutes M --workers W --success-m 0.5`` compare the original with every copy, with and
-   without the balance layer; the tables are printed and written to ``DIR/walk.parquet`` and
-   ``DIR/kick.parquet``. A kick succeeds beyond 0.5 m (``KICK_SUCCESS_M``): the other team's
-   kick is a 1 m kick step, which the study's 2 m rule would count as never succeeding.
+   league --minutes M --workers W --success-m 0.5`` compare the original with every copy, with
+   and without the balance layer, once per ``--disturb`` level (default: none); the tables are
+   printed and written to ``DIR/walk_LEVEL.parquet`` and ``DIR/kick_LEVEL.parquet``. A kick
+   succeeds beyond 0.5 m (``KICK_SUCCESS_M``): the other team's kick is a 1 m kick step, which
+   the study's 2 m rule would count as never succeeding.
 """
 
 from __future__ import annotations
@@ -130,7 +131,10 @@ def main() -> None:
     )
     parser.add_argument("--workers", type=int, default=2)
     parser.add_argument(
-        "--disturb", default="none", help="trial disturbance level (none: the published tables)"
+        "--disturb",
+        nargs="+",
+        default=["none"],
+        help="trial disturbance levels, one table each (none: the published tables)",
     )
     parser.add_argument("--kick-recordings", type=int, default=3)
     parser.add_argument(
@@ -142,24 +146,26 @@ def main() -> None:
     if args.improve_budget < 0:
         sys.exit("--improve-budget must be >= 0")
     args.out.mkdir(parents=True, exist_ok=True)
-    common = ["--world", "league", "--robot", "t1", "--workers", str(args.workers), "--force",
-              "--disturb", args.disturb]  # fmt: skip
+    common = ["--world", "league", "--robot", "t1", "--workers", str(args.workers), "--force"]
     if args.only in (None, "walk"):
         variants = learn_walk(args.out)
-        subprocess.run(
-            [MIMIC, "trial", "walk", "--compare", *variants, "--minutes", str(args.minutes),
-             *common, "-o", str(args.out / "walk.parquet")],
-            check=True,
-        )  # fmt: skip
+        for level in args.disturb:
+            subprocess.run(
+                [MIMIC, "trial", "walk", "--compare", *variants, "--minutes", str(args.minutes),
+                 *common, "--disturb", level, "-o", str(args.out / f"walk_{level}.parquet")],
+                check=True,
+            )  # fmt: skip
     if args.only in (None, "kick"):
         variants = learn_kick(args.out, args.kick_recordings)
         if args.improve_budget:
             variants += improve_kick(args.out, args.improve_budget, args.workers)
-        subprocess.run(
-            [MIMIC, "trial", "kick", "--compare", *variants, "--minutes", str(args.minutes),
-             "--success-m", str(KICK_SUCCESS_M), *common, "-o", str(args.out / "kick.parquet")],
-            check=True,
-        )  # fmt: skip
+        for level in args.disturb:
+            subprocess.run(
+                [MIMIC, "trial", "kick", "--compare", *variants, "--minutes", str(args.minutes),
+                 "--success-m", str(KICK_SUCCESS_M), *common, "--disturb", level,
+                 "-o", str(args.out / f"kick_{level}.parquet")],
+                check=True,
+            )  # fmt: skip
 
 
 if __name__ == "__main__":

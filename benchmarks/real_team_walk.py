@@ -1,7 +1,7 @@
 """Learn a walk that never repeats, black-box, and try the copies in the league: one command.
 
     python benchmarks/real_team_walk.py [--agent other-team-policy-walk] [--out DIR]
-        [--runs 20] [--seed 59] [--workers 2]
+        [--runs 20] [--seed 59] [--workers 2] [--disturb none game]
 
 Every step is a command a user types (the README's "Learn a walk that never repeats"):
 
@@ -15,8 +15,9 @@ Every step is a command a user types (the README's "Learn a walk that never repe
    each step timed on its own (``--period steps --symmetric``), and that with its references
    fitted in a simulation of the copy (``--fit-in-sim 6``). A way that refuses the recording
    is a row of its own, with its reason.
-3. ``mimic trial walk --compare AGENT COPIES --world league --robot t1 --runs R --seed S``:
-   10 m from a standing start, the copies inside the balance layer (the study's without).
+3. ``mimic trial walk --compare AGENT COPIES --world league --robot t1 --runs R --seed S
+   --disturb LEVEL`` for each level (``DIR/walk_LEVEL.parquet``): 10 m from a standing
+   start, the copies inside the balance layer (the study's without).
 
 It also prints what the recording shows of the walk: its steps (count, mean, spread) and its
 joint speeds, and what the fit did. Development used trial seeds 0, 1 and 7 (the first
@@ -123,7 +124,10 @@ def main() -> None:
     parser.add_argument("--seed", type=int, default=59)
     parser.add_argument("--workers", type=int, default=2)
     parser.add_argument(
-        "--disturb", default="none", help="trial disturbance level (none: the published tables)"
+        "--disturb",
+        nargs="+",
+        default=["none"],
+        help="trial disturbance levels, one table each (none: the published tables)",
     )
     args = parser.parse_args()
     if args.runs < 1 or args.workers < 1:
@@ -145,12 +149,13 @@ def main() -> None:
         said = ("steps from the feet", "fitted in the", "check walks")
         print("\n".join(f"  {line}" for line in lines if any(s in line for s in said)))
         variants.append(f"{path}{suffix}")
-    trial = _run(
-        MIMIC, "trial", "walk", "--compare", *variants, "--world", "league", "--robot", "t1",
-        "--runs", str(args.runs), "--seed", str(args.seed), "--workers", str(args.workers),
-        "-o", str(args.out / "walk.parquet"), "--force", "--disturb", args.disturb,
-    )  # fmt: skip
-    print(trial.stdout)
+    for level in args.disturb:
+        trial = _run(
+            MIMIC, "trial", "walk", "--compare", *variants, "--world", "league", "--robot", "t1",
+            "--runs", str(args.runs), "--seed", str(args.seed), "--workers", str(args.workers),
+            "-o", str(args.out / f"walk_{level}.parquet"), "--force", "--disturb", level,
+        )  # fmt: skip
+        print(trial.stdout)
     print("\n".join(refused))
 
 

@@ -64,7 +64,8 @@ class Disturbances:
     # Mean gap between pushes [s] (0: no pushes) and the quiet start of a run [s].
     push_interval_s: float = 0.0
     push_after_s: float = 1.0
-    # A push's size in the robot's game pushes (``GAME_PUSH_SPEED_M_S``) and its length [s].
+    # A push's size in the robot's game pushes (``GAME_PUSH_SPEED_M_S``) and its length [s]
+    # (half a second: a robot leaning into another, gentler than a blow of the same size).
     push_scale: float = 0.0
     push_duration_s: float = 0.1
     # Half widths of the uniform scales of sliding friction and of each link's mass.
@@ -101,10 +102,9 @@ class Disturbances:
 
 
 #: The push [m/s of the whole robot's speed] each robot's original walk survives most of the
-#: time (the NAO's walk engine in our world; the T1 other team's walk in the league's physics,
-#: which falls in a third of its runs or more from pushes twice this size).
-#: ``docs/disturbances.md`` says how they were found.
-GAME_PUSH_SPEED_M_S = {"nao": 0.25, "t1": 0.025, "k1": 0.025}
+#: time (the NAO's walk engine in our world; the T1 other team's walk in the league's
+#: physics), given over ``push_duration_s``. ``docs/disturbances.md`` says how they were found.
+GAME_PUSH_SPEED_M_S = {"nao": 0.4, "t1": 0.04, "k1": 0.04}
 
 #: The levels ``--disturb`` names. ``game`` is what a game in the league has: robots start on
 #: any cycle, get pushed, and the grass and the robots are not the nominal ones; neither
@@ -117,6 +117,7 @@ DISTURB_LEVELS: dict[str, Disturbances] = {
         start_delay_s=0.5,
         push_interval_s=3.0,
         push_scale=1.0,
+        push_duration_s=0.5,
         friction_spread=0.1,
         mass_spread=0.1,
     ),
