@@ -239,3 +239,20 @@ def test_the_league_world_in_process_takes_pushes_and_the_physics_spreads():
     row = run_walk_episode(spec, 3, config)[0][0]
     assert row["world"] == "league" and row["disturb"] == "game"
     assert row["friction_scale"] != 1.0 and row["mass_scale"] != 1.0
+
+
+def test_the_same_seed_gives_the_same_disturbed_table_whatever_the_workers(tmp_path):
+    from mimic.trials.api import kick_trial
+    from mimic.trials.kick import KickTrialConfig
+
+    spec = AgentSpec("behaviour", "walk")
+    one, two = tmp_path / "one.parquet", tmp_path / "two.parquet"
+    walk_trial([spec], runs=3, seed=9, workers=1, config=GAME, out=one)
+    walk_trial([spec], runs=3, seed=9, workers=2, config=GAME, out=two)
+    assert one.read_bytes() == two.read_bytes()
+    kick = AgentSpec("motion", "kick_right")
+    config = KickTrialConfig(disturb="game")
+    a = kick_trial([kick], minutes=0.5, seed=9, workers=1, config=config, out=tmp_path / "a.pq")
+    kick_trial([kick], minutes=0.5, seed=9, workers=2, config=config, out=tmp_path / "b.pq")
+    assert (tmp_path / "a.pq").read_bytes() == (tmp_path / "b.pq").read_bytes()
+    assert set(a.rows["disturb"]) == {"game"} and "pushes_during_kick" in a.rows.columns

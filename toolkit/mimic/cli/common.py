@@ -56,8 +56,8 @@ ROBOT = typer.Option(
 DISTURB = typer.Option(
     "--disturb",
     help="Disturbances per episode: none (only the start pose), game (start delay, pushes, "
-    "friction and masses +-10 %) or hard (twice game, and sensor noise); default: game "
-    "where mimic steps the physics itself, none on a league server (it cannot push).",
+    "friction and masses +-10 %) or hard (game's pushes, +-20 %, sensor noise); default: "
+    "game where mimic steps the physics itself, none on a league server (it cannot push).",
     show_default=False,
 )
 
