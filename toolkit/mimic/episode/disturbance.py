@@ -36,6 +36,7 @@ from dataclasses import dataclass, fields, replace
 import numpy as np
 
 from mimic.agents.base import Agent
+from mimic.agents.hold import HoldPose
 from mimic.episode.observers import Observer
 from mimic.errors import MimicError
 from mimic.geometry import quat_mul
@@ -186,8 +187,6 @@ class EpisodeDisturbances:
         posture throughout)."""
         if self.spec.start_delay_s <= 0:
             return "timeout"
-        from mimic.agents.hold import HoldPose
-
         delay = float(self._rng.uniform(0.0, self.spec.start_delay_s))
         self.start_delays_s.append(delay)
         world = episode.world
