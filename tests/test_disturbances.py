@@ -256,3 +256,17 @@ def test_the_same_seed_gives_the_same_disturbed_table_whatever_the_workers(tmp_p
     kick_trial([kick], minutes=0.5, seed=9, workers=2, config=config, out=tmp_path / "b.pq")
     assert (tmp_path / "a.pq").read_bytes() == (tmp_path / "b.pq").read_bytes()
     assert set(a.rows["disturb"]) == {"game"} and "pushes_during_kick" in a.rows.columns
+
+
+def test_a_getup_trial_is_disturbed_too():
+    from mimic.trials.api import getup_trial
+    from mimic.trials.getup import GetupTrialConfig
+
+    config = GetupTrialConfig(disturb="hard")
+    result = getup_trial(
+        [AgentSpec("motion", "getup_front")], runs=2, seed=3, workers=1, config=config
+    )
+    rows = result.rows
+    assert set(rows["disturb"]) == {"hard"} and (rows["friction_scale"] != 1.0).all()
+    assert (rows["start_delay_s"] > 0).all()
+    assert result.summary["disturb"][0] == "hard"
