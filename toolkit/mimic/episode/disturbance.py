@@ -105,7 +105,7 @@ class Disturbances:
 #: The push [m/s of the whole robot's speed] each robot's original walk survives most of the
 #: time (the NAO's walk engine in our world; the T1 other team's walk in the league's
 #: physics), given over ``push_duration_s``. ``docs/disturbances.md`` says how they were found.
-GAME_PUSH_SPEED_M_S = {"nao": 0.4, "t1": 0.04, "k1": 0.04}
+GAME_PUSH_SPEED_M_S = {"nao": 0.3, "t1": 0.04, "k1": 0.04}
 
 #: The levels ``--disturb`` names. ``game`` is what a game in the league has: robots start on
 #: any cycle, get pushed, and the grass and the robots are not the nominal ones; neither
