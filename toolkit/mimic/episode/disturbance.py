@@ -102,9 +102,10 @@ class Disturbances:
         return self.joint_noise_rad > 0 or self.gyro_noise_rad_s > 0 or self.tilt_noise_rad > 0
 
 
-#: The push [m/s of the whole robot's speed] each robot's original walk survives most of the
-#: time (the NAO's walk engine in our world; the T1 other team's walk in the league's
-#: physics), given over ``push_duration_s``. ``docs/disturbances.md`` says how they were found.
+#: The push [m/s of the whole robot's speed] each robot's original walks survive most of the
+#: time (the NAO's walk engine and its other team's walk in our world; the T1 other team's
+#: walks in the league's physics), given over ``push_duration_s``. ``docs/disturbances.md``
+#: says how they were found.
 GAME_PUSH_SPEED_M_S = {"nao": 0.3, "t1": 0.04, "k1": 0.04}
 
 #: The levels ``--disturb`` names. ``game`` is what a game in the league has: robots start on
