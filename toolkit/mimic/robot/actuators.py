@@ -88,14 +88,15 @@ class SpeedServos:
     ) -> np.ndarray:
         """(N,) speeds [rad/s] = gain (reference - angle), capped."""
         gain = self.tracking_gain_per_s if gain_per_s is None else gain_per_s
-        return np.clip(
-            gain * (reference_rad - angles_rad), -self.max_speed_rad_s, self.max_speed_rad_s
-        )
+        # ndarray.clip: np.clip without its dispatch (this runs every cycle).
+        speeds = np.asarray(gain * (reference_rad - angles_rad))
+        return speeds.clip(-self.max_speed_rad_s, self.max_speed_rad_s)
 
     def speed_commands(self, command: JointCommand, angles_rad: np.ndarray) -> np.ndarray:
         """(N,) capped speed commands [rad/s] for ``command`` at the current angles."""
         if command.speed_rad_s is not None:
-            return np.clip(command.speed_rad_s, -self.max_speed_rad_s, self.max_speed_rad_s)
+            speeds = np.asarray(command.speed_rad_s)
+            return speeds.clip(-self.max_speed_rad_s, self.max_speed_rad_s)
         return self.track(command.reference_rad, angles_rad)
 
     def controls(

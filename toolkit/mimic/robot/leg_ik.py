@@ -32,6 +32,7 @@ __all__ = [
     "LegGeometry",
     "leg_geometry",
     "leg_ik",
+    "leg_ik_floats",
     "leg_fk",
     "leg_joint_indices",
     "sole_to_ankle",
@@ -108,6 +109,8 @@ class LegGeometry:
         put("thigh_f", tuple(float(v) for v in self.thigh))
         put("shank_f", tuple(float(v) for v in self.shank))
         put("ankle_f", tuple(float(v) for v in self.ankle))
+        put("lower_f", tuple(float(v) for v in self.lower_rad))
+        put("upper_f", tuple(float(v) for v in self.upper_rad))
         put("l1", math.hypot(self.thigh[0], self.thigh[2]))
         put("l2", math.hypot(self.shank[0], self.shank[2]))
         put("beta", math.atan2(self.thigh[0], self.thigh[2]))
@@ -184,7 +187,8 @@ def sole_to_ankle(side: str, sole_pos_m: np.ndarray, rot: np.ndarray) -> np.ndar
 def _solve(g: LegGeometry, ap, rot) -> list[float]:
     """Angles putting the ankle-pitch anchor at ``ap`` with foot rotation ``rot``.
 
-    Plain floats throughout (rot as nested lists): this runs twice per leg every cycle.
+    Plain floats throughout (rot as nested lists or tuples): this runs twice per leg every
+    cycle.
     """
     (r00, r01, r02), (r10, r11, r12), (r20, r21, r22) = rot
     hx, hy, hz = g.hip_f
@@ -217,18 +221,21 @@ def _solve(g: LegGeometry, ap, rot) -> list[float]:
     b0 = (ca, -s6 * sa, -c6 * sa)  # column 0 of Rx(-q6) Ry(a)
     b1 = (0.0, c6, -s6)  # column 1
     b2 = (sa, s6 * ca, c6 * ca)  # column 2
-
-    def rb(row, col):
-        return row[0] * col[0] + row[1] * col[1] + row[2] * col[2]
-
-    row0, row1, row2 = (r00, r01, r02), (r10, r11, r12), (r20, r21, r22)
+    # Row i of rot dotted with column j of B (written out: this is the solver's inner loop).
+    rot0_b1 = r00 * b1[0] + r01 * b1[1] + r02 * b1[2]
+    rot1_b0 = r10 * b0[0] + r11 * b0[1] + r12 * b0[2]
+    rot1_b1 = r10 * b1[0] + r11 * b1[1] + r12 * b1[2]
+    rot1_b2 = r10 * b2[0] + r11 * b2[1] + r12 * b2[2]
+    rot2_b0 = r20 * b0[0] + r21 * b0[1] + r22 * b0[2]
+    rot2_b1 = r20 * b1[0] + r21 * b1[1] + r22 * b1[2]
+    rot2_b2 = r20 * b2[0] + r21 * b2[1] + r22 * b2[2]
     cs, ss = g.cos_sigma, g.sin_sigma
     # Rows of Rx(-sigma): (1,0,0), (0, cs, ss), (0, -ss, cs).
-    m01 = rb(row0, b1)
-    m11 = cs * rb(row1, b1) + ss * rb(row2, b1)
-    m20 = -ss * rb(row1, b0) + cs * rb(row2, b0)
-    m21 = -ss * rb(row1, b1) + cs * rb(row2, b1)
-    m22 = -ss * rb(row1, b2) + cs * rb(row2, b2)
+    m01 = rot0_b1
+    m11 = cs * rot1_b1 + ss * rot2_b1
+    m20 = -ss * rot1_b0 + cs * rot2_b0
+    m21 = -ss * rot1_b1 + cs * rot2_b1
+    m22 = -ss * rot1_b2 + cs * rot2_b2
     phi = math.asin(max(-1.0, min(1.0, m21)))
     theta = math.atan2(-m20, m22)
     psi = math.atan2(-m01, m11)
@@ -262,19 +269,40 @@ def leg_ik(
     """
     g = _GEOMETRY[side]
     rot_l = _EYE if rot is None else np.asarray(rot, dtype=float).tolist()
-    tx, ty, tz = (float(v) for v in ankle_pos_m)
+    out = np.array(_solve_passes(g, [float(v) for v in ankle_pos_m], rot_l, passes))
+    if clip_to_limits:
+        np.clip(out, g.lower_rad, g.upper_rad, out=out)
+    return out
+
+
+def leg_ik_floats(side: str, ankle_xyz_m, rot_rows, passes: int = 3) -> list[float]:
+    """``leg_ik`` (clipped to the joint stops) on plain floats, for a caller in a cycle's
+    inner loop: the ankle-roll anchor as three floats [m], the foot rotation as three rows of
+    three floats; the six angles [rad] come back as a list. Same arithmetic, same result."""
+    g = _GEOMETRY[side]
+    q = _solve_passes(g, ankle_xyz_m, rot_rows, passes)
+    # min(max()) is np.clip's rule for one float, bit for bit.
+    return [min(max(a, lo), hi) for a, lo, hi in zip(q, g.lower_f, g.upper_f)]
+
+
+def _solve_passes(g: LegGeometry, ankle_xyz_m, rot_rows, passes: int) -> list[float]:
+    """The unclipped angles after ``passes`` solves, each with the ankle-pitch anchor placed
+    by the last pass's roll angle."""
+    tx, ty, tz = ankle_xyz_m
+    (r00, r01, r02), (r10, r11, r12), (r20, r21, r22) = rot_rows
     ax, az = g.ankle_f[0], g.ankle_f[2]  # ankle offset: (0, 0, -5 mm) at the zero pose
     q = [0.0] * 6
     for _ in range(passes):
         # Ankle-pitch anchor = ankle-roll anchor - rot Rx(-q6) (ankle offset).
         c6, s6 = math.cos(q[5]), math.sin(q[5])
-        o = (ax, s6 * az, c6 * az)
-        ap = [t - (r[0] * o[0] + r[1] * o[1] + r[2] * o[2]) for t, r in zip((tx, ty, tz), rot_l)]
-        q = _solve(g, ap, rot_l)
-    out = np.array(q)
-    if clip_to_limits:
-        np.clip(out, g.lower_rad, g.upper_rad, out=out)
-    return out
+        ox, oy, oz = ax, s6 * az, c6 * az
+        ap = (
+            tx - (r00 * ox + r01 * oy + r02 * oz),
+            ty - (r10 * ox + r11 * oy + r12 * oz),
+            tz - (r20 * ox + r21 * oy + r22 * oz),
+        )
+        q = _solve(g, ap, rot_rows)
+    return q
 
 
 _EYE = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]

@@ -212,13 +212,13 @@ class World(ABC):
 
     def torso_up_z(self) -> float:
         """z component of the torso's up axis: 1 upright, 0 lying."""
-        w, x, y, _ = self.torso_quat_wxyz()
-        return float(1 - 2 * (x * x + y * y))
+        w, x, y, _ = self.torso_quat_wxyz().tolist()  # floats: checked every cycle
+        return 1 - 2 * (x * x + y * y)
 
     def torso_forward_z(self) -> float:
         """z component of the torso's forward axis: negative when it faces the ground."""
-        w, x, y, z = self.torso_quat_wxyz()
-        return float(2 * (x * z - w * y))
+        w, x, y, z = self.torso_quat_wxyz().tolist()
+        return 2 * (x * z - w * y)
 
     def _tilt_rad(self) -> float:
         return math.acos(max(-1.0, min(1.0, self.torso_up_z())))

@@ -66,6 +66,8 @@ class MujocoWorld(World):
             )
             for name in ("gyro", "accelerometer", "torso_quat", *FOOT_TOUCH_SENSORS)
         }
+        # The first value of each sole's touch sensor: its normal force.
+        self._foot_force_idx = _readonly([self._sensor[n].start for n in FOOT_TOUCH_SENSORS])
         self.torso_body_id = root.id
         self.ball_body_id = m.body("ball").id
         self._link_names = tuple(link.name for link in self.robot.links)
@@ -232,7 +234,7 @@ class MujocoWorld(World):
             gyro_rad_s=d.sensordata[s["gyro"]].copy(),
             accelerometer_m_s2=d.sensordata[s["accelerometer"]].copy(),
             torso_quat_wxyz=d.sensordata[s["torso_quat"]].copy(),
-            foot_forces_n=np.array([d.sensordata[s[name]][0] for name in FOOT_TOUCH_SENSORS]),
+            foot_forces_n=d.sensordata[self._foot_force_idx],
             torso_pos_m=d.qpos[self._root_q : self._root_q + 3].copy(),
             ball_pos_m=d.qpos[self._ball_q : self._ball_q + 3].copy(),
         )

@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 
@@ -156,12 +157,13 @@ class WalkConfig:
     # be now) instead of this cycle's (where they should be at its end).
     track_previous: bool = True
 
-    @property
+    # Worked out once per config (it is frozen): the walk reads them several times a cycle.
+    @cached_property
     def step_cycles(self) -> int:
         """Agent cycles per step."""
         return max(2, round(self.step_s / CYCLE_S))
 
-    @property
+    @cached_property
     def step_time_s(self) -> float:
         """Duration of one step as walked, in whole agent cycles [s]."""
         return self.step_cycles * CYCLE_S
@@ -205,11 +207,13 @@ def feet_at(cfg: WalkConfig, plan: StepPlan, phase: float, sway_scale: float = 1
     lift = cfg.lift_start_fraction
     swing = min(1.0, max(0.0, phase - lift) / max(cfg.swing_fraction - lift, 1e-6))
     swing_f = 0.5 * (1 - math.cos(math.pi * swing))
-    feet = np.empty((2, 4))
+    # On plain floats (this runs every cycle): each foot moves from start toward end.
     sup, sw = plan.support, 1 - plan.support
-    feet[sup] = plan.start[sup] + support_f * (plan.end[sup] - plan.start[sup])
-    feet[sw] = plan.start[sw] + swing_f * (plan.end[sw] - plan.start[sw])
-    feet[sw, 2] += cfg.step_height_m * 0.5 * (1 - math.cos(2 * math.pi * swing))
+    start, end = plan.start.tolist(), plan.end.tolist()
+    feet = [[], []]
+    feet[sup] = [a + support_f * (b - a) for a, b in zip(start[sup], end[sup])]
+    feet[sw] = [a + swing_f * (b - a) for a, b in zip(start[sw], end[sw])]
+    feet[sw][2] += cfg.step_height_m * 0.5 * (1 - math.cos(2 * math.pi * swing))
     # Torso sways toward the support foot: both feet shift the other way in the walk frame.
     toward = 1.0 if sup == 0 else -1.0
     sway = (
@@ -218,5 +222,6 @@ def feet_at(cfg: WalkConfig, plan: StepPlan, phase: float, sway_scale: float = 1
         * cfg.ankle_half_width_m
         * lateral_fraction(phase, k, cfg.step_time_s)
     )
-    feet[:, 1] -= toward * sway
-    return feet
+    for foot in feet:
+        foot[1] -= toward * sway
+    return np.array(feet)
