@@ -115,6 +115,14 @@ class LegGeometry:
         put("l2", math.hypot(self.shank[0], self.shank[2]))
         put("beta", math.atan2(self.thigh[0], self.thigh[2]))
         put("gamma", math.atan2(self.shank[0], self.shank[2]))
+        # The knee's law of cosines: the reach kept inside (|l1 - l2|, l1 + l2), the constant
+        # terms, and the knee angle's offset from the two 5 mm offsets.
+        l1, l2 = self.l1, self.l2
+        put("reach_min_m", abs(l1 - l2) + 1e-3)
+        put("reach_max_m", l1 + l2 - 1e-9)
+        put("l_squares", l1 * l1 + l2 * l2)
+        put("l_twice_product", 2 * l1 * l2)
+        put("knee_offset_rad", self.gamma - self.beta)
         put("cos_sigma", math.cos(self.sigma_rad))
         put("sin_sigma", math.sin(self.sigma_rad))
         # +1 if the yaw-pitch axis is Rx(sigma) z, -1 if it is -Rx(sigma) z.
@@ -199,13 +207,12 @@ def _solve(g: LegGeometry, ap, rot) -> list[float]:
     ry = r01 * vx + r11 * vy + r21 * vz
     rz = r02 * vx + r12 * vy + r22 * vz
     q6 = math.atan2(-ry, -rz)
-    l1, l2, beta, gamma = g.l1, g.l2, g.beta, g.gamma
     # Knee: |Ry(q4) thigh + shank|^2 = l1^2 + l2^2 + 2 l1 l2 cos(beta + q4 - gamma), the 5 mm
     # knee offset appearing as the constant angles beta, gamma; the knee bends with q4 < 0.
     dist = math.sqrt(vx * vx + vy * vy + vz * vz)
-    dist = min(max(dist, abs(l1 - l2) + 1e-3), l1 + l2 - 1e-9)
-    c = (l1 * l1 + l2 * l2 - dist * dist) / (2 * l1 * l2)
-    q4 = _wrap(gamma - beta - (math.pi - math.acos(max(-1.0, min(1.0, c)))))
+    dist = min(max(dist, g.reach_min_m), g.reach_max_m)
+    c = (g.l_squares - dist * dist) / g.l_twice_product
+    q4 = _wrap(g.knee_offset_rad - (math.pi - math.acos(max(-1.0, min(1.0, c)))))
     # In the foot's sagittal plane: p = Rx(q6) r = Ry(q5) m with m = Ry(q4) thigh + shank.
     c6, s6 = math.cos(q6), math.sin(q6)
     px, pz = rx, s6 * ry + c6 * rz

@@ -225,35 +225,35 @@ class WalkEngine(Agent):
             self._pos_history = []
             self._base_history = []
             return
-        self._pos_history.append((float(obs.torso_pos_m[0]), float(obs.torso_pos_m[1])))
+        pos = obs.torso_pos_m.tolist()
+        self._pos_history.append((pos[0], pos[1]))
         del self._pos_history[: -(2 * cfg.step_cycles + 1)]
+        vx, vy, yaw_rate = self._velocity.tolist()
         # Anti-windup: when the turn lags the command, the desired heading waits for it. Only
         # the command's own advance waits: a heading knocked away (a slipping foot, a rocking
         # step) is not given up, else every such knock would stay in the walked direction.
         # The lead allowed grows with the commanded rate: a slow turn asked for by an outer
         # loop (go-to-pose) must not run far ahead of the torso, or the two loops ring.
-        lead = min(cfg.max_heading_error_rad, abs(self._velocity[2]) * cfg.heading_lead_s)
-        ahead = _wrap(self._heading_rad + self._velocity[2] * CYCLE_S - self._mean_yaw_rad)
+        lead = min(cfg.max_heading_error_rad, abs(yaw_rate) * cfg.heading_lead_s)
+        ahead = _wrap(self._heading_rad + yaw_rate * CYCLE_S - self._mean_yaw_rad)
         if abs(ahead) <= lead or abs(ahead) < abs(_wrap(self._heading_rad - self._mean_yaw_rad)):
-            self._heading_rad = _wrap(self._heading_rad + self._velocity[2] * CYCLE_S)
+            self._heading_rad = _wrap(self._heading_rad + yaw_rate * CYCLE_S)
         self._aim_rad = self._heading_rad
-        if cfg.line_gain and self._velocity[1] == 0.0 and self._velocity[2] == 0.0:
-            pos = obs.torso_pos_m
+        if cfg.line_gain and vy == 0.0 and yaw_rate == 0.0:
             if self._line is None:
-                self._line = (float(pos[0]), float(pos[1]), self._heading_rad)
+                self._line = (pos[0], pos[1], self._heading_rad)
             x0, y0, h = self._line
             c, s = math.cos(h), math.sin(h)
             offset = -s * (pos[0] - x0) + c * (pos[1] - y0)
-            sign = 1.0 if self._velocity[0] >= 0 else -1.0
+            sign = 1.0 if vx >= 0 else -1.0
             aim = min(max(cfg.line_gain * offset, -cfg.max_line_aim_rad), cfg.max_line_aim_rad)
             self._aim_rad = _wrap(h - sign * float(aim))
-        elif cfg.side_line_gain and self._velocity[1] != 0.0 and self._velocity[2] == 0.0:
+        elif cfg.side_line_gain and vy != 0.0 and yaw_rate == 0.0:
             # Sideways or diagonal: the heading must stay (it is part of the command), so the
             # line is held with steps across it instead of by steering.
-            pos = obs.torso_pos_m
             if self._line is None:
-                travel = self._heading_rad + math.atan2(self._velocity[1], self._velocity[0])
-                self._line = (float(pos[0]), float(pos[1]), travel)
+                travel = self._heading_rad + math.atan2(vy, vx)
+                self._line = (pos[0], pos[1], travel)
             x0, y0, h = self._line
             offset = -math.sin(h) * (pos[0] - x0) + math.cos(h) * (pos[1] - y0)
             most = cfg.max_side_line_step_m
@@ -262,7 +262,7 @@ class WalkEngine(Agent):
             self._line_step = -back * np.array([math.cos(across), math.sin(across)])
         else:
             self._line = None
-        if self._line is None or self._velocity[1] == 0.0:
+        if self._line is None or vy == 0.0:
             self._line_step = np.zeros(2)
 
     # --- internals ------------------------------------------------------------------------

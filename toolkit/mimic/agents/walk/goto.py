@@ -237,7 +237,8 @@ class GoToPose(Agent):
         fx, fy, dh = self._smoothed_errors(obs, yaw)
         # Next to the ball every extra correction risks touching it: settle for a little less.
         loose = 1.0
-        ball_m = float(np.hypot(*(obs.ball_pos_m[:2] - obs.torso_pos_m[:2])))
+        (bx, by), (tx, ty) = obs.ball_pos_m[:2].tolist(), obs.torso_pos_m[:2].tolist()
+        ball_m = float(np.hypot(bx - tx, by - ty))
         near_ball = cfg.avoid_ball and ball_m < cfg.ball_slow_radius_m
         if near_ball:
             loose = cfg.near_ball_tolerance_scale
@@ -320,5 +321,5 @@ class GoToPose(Agent):
 def _segment_distance(point: np.ndarray, a: np.ndarray, b: np.ndarray) -> float:
     """Distance [m] from ``point`` to the segment a-b (2-D)."""
     ab = b - a
-    t = float(np.clip(np.dot(point - a, ab) / max(float(np.dot(ab, ab)), 1e-12), 0.0, 1.0))
+    t = float(min(max(np.dot(point - a, ab) / max(float(np.dot(ab, ab)), 1e-12), 0.0), 1.0))
     return float(np.hypot(*(a + t * ab - point)))
