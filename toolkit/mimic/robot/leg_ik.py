@@ -216,26 +216,27 @@ def _solve(g: LegGeometry, ap, rot) -> list[float]:
     # In the foot's sagittal plane: p = Rx(q6) r = Ry(q5) m with m = Ry(q4) thigh + shank.
     c6, s6 = math.cos(q6), math.sin(q6)
     px, pz = rx, s6 * ry + c6 * rz
-    tx, tz = g.thigh_f[0], g.thigh_f[2]
+    tx, _, tz = g.thigh_f
+    sx, _, sz = g.shank_f
     c4, s4 = math.cos(q4), math.sin(q4)
-    mx = c4 * tx + s4 * tz + g.shank_f[0]
-    mz = -s4 * tx + c4 * tz + g.shank_f[2]
+    mx = c4 * tx + s4 * tz + sx
+    mz = -s4 * tx + c4 * tz + sz
     q5 = _wrap(math.atan2(px, pz) - math.atan2(mx, mz))
     # Hip: M = Rx(-sigma) rot Rx(-q6) Ry(q4 + q5) = Rz(psi) Rx(phi) Ry(-q3).
     # Columns of B = Rx(-q6) Ry(a): needed rows of rot @ B, then Rx(-sigma).
     a = q4 + q5
     ca, sa = math.cos(a), math.sin(a)
-    b0 = (ca, -s6 * sa, -c6 * sa)  # column 0 of Rx(-q6) Ry(a)
-    b1 = (0.0, c6, -s6)  # column 1
-    b2 = (sa, s6 * ca, c6 * ca)  # column 2
+    b0x, b0y, b0z = ca, -s6 * sa, -c6 * sa  # column 0 of Rx(-q6) Ry(a)
+    b1x, b1y, b1z = 0.0, c6, -s6  # column 1
+    b2x, b2y, b2z = sa, s6 * ca, c6 * ca  # column 2
     # Row i of rot dotted with column j of B (written out: this is the solver's inner loop).
-    rot0_b1 = r00 * b1[0] + r01 * b1[1] + r02 * b1[2]
-    rot1_b0 = r10 * b0[0] + r11 * b0[1] + r12 * b0[2]
-    rot1_b1 = r10 * b1[0] + r11 * b1[1] + r12 * b1[2]
-    rot1_b2 = r10 * b2[0] + r11 * b2[1] + r12 * b2[2]
-    rot2_b0 = r20 * b0[0] + r21 * b0[1] + r22 * b0[2]
-    rot2_b1 = r20 * b1[0] + r21 * b1[1] + r22 * b1[2]
-    rot2_b2 = r20 * b2[0] + r21 * b2[1] + r22 * b2[2]
+    rot0_b1 = r00 * b1x + r01 * b1y + r02 * b1z
+    rot1_b0 = r10 * b0x + r11 * b0y + r12 * b0z
+    rot1_b1 = r10 * b1x + r11 * b1y + r12 * b1z
+    rot1_b2 = r10 * b2x + r11 * b2y + r12 * b2z
+    rot2_b0 = r20 * b0x + r21 * b0y + r22 * b0z
+    rot2_b1 = r20 * b1x + r21 * b1y + r22 * b1z
+    rot2_b2 = r20 * b2x + r21 * b2y + r22 * b2z
     cs, ss = g.cos_sigma, g.sin_sigma
     # Rows of Rx(-sigma): (1,0,0), (0, cs, ss), (0, -ss, cs).
     m01 = rot0_b1

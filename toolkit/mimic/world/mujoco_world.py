@@ -227,16 +227,18 @@ class MujocoWorld(World):
 
     def observe(self) -> Observation:
         d, s = self.data, self._sensor
+        # Each read of an MjData array makes a new view: read each once. Index arrays copy.
+        qpos, sensors = d.qpos, d.sensordata
         return Observation(
             time_s=float(d.time),
-            joint_angles_rad=d.qpos[self.qpos_idx].copy(),
-            joint_speeds_rad_s=d.qvel[self.qvel_idx].copy(),
-            gyro_rad_s=d.sensordata[s["gyro"]].copy(),
-            accelerometer_m_s2=d.sensordata[s["accelerometer"]].copy(),
-            torso_quat_wxyz=d.sensordata[s["torso_quat"]].copy(),
-            foot_forces_n=d.sensordata[self._foot_force_idx],
-            torso_pos_m=d.qpos[self._root_q : self._root_q + 3].copy(),
-            ball_pos_m=d.qpos[self._ball_q : self._ball_q + 3].copy(),
+            joint_angles_rad=qpos[self.qpos_idx],
+            joint_speeds_rad_s=d.qvel[self.qvel_idx],
+            gyro_rad_s=sensors[s["gyro"]].copy(),
+            accelerometer_m_s2=sensors[s["accelerometer"]].copy(),
+            torso_quat_wxyz=sensors[s["torso_quat"]].copy(),
+            foot_forces_n=sensors[self._foot_force_idx],
+            torso_pos_m=qpos[self._root_q : self._root_q + 3].copy(),
+            ball_pos_m=qpos[self._ball_q : self._ball_q + 3].copy(),
         )
 
     def torso_pos_m(self) -> np.ndarray:
