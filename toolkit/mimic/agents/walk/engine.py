@@ -36,6 +36,7 @@ from mimic.agents.base import Agent, JointCommand
 from mimic.agents.walk.averages import mean_rows
 from mimic.agents.walk.gait import StepPlan, WalkConfig, feet_at, nominal_foot, plan_step
 from mimic.geometry import torso_pitch_roll as _pitch_roll_left
+from mimic.robot.actuators import clip_symmetric
 from mimic.robot.joints import joint_index
 from mimic.robot.leg_ik import leg_fk, leg_ik_floats, leg_joint_indices
 from mimic.robot.nao import nao
@@ -201,8 +202,7 @@ class WalkEngine(Agent):
             planned = nominal - self._prev_nominal
             feedback = (ref - nominal) - (self._prev_ref - self._prev_nominal)
             ahead = (cfg.feedforward * planned + cfg.feedback_feedforward * feedback) / CYCLE_S
-            cap = self._servos.max_speed_rad_s
-            speeds = (speeds + ahead).clip(-cap, cap)  # ndarray.clip: np.clip, less dispatch
+            speeds = clip_symmetric(speeds + ahead, self._servos.max_speed_rad_s)
         self._prev_nominal = nominal
         self._prev_ref = ref
         self.reference_rad = ref
@@ -413,7 +413,7 @@ class WalkEngine(Agent):
         joint: the servos cannot follow faster, and a reachable plan keeps the feed-forward
         honest (the swing leg then lifts and swings as fast as its joints can go)."""
         step = self.config.max_reference_speed_rad_s * CYCLE_S
-        return self._prev_nominal + (nominal - self._prev_nominal).clip(-step, step)
+        return self._prev_nominal + clip_symmetric(nominal - self._prev_nominal, step)
 
     def _at_rest(self) -> bool:
         """The ramped command is zero and the last step ended near the nominal stance."""

@@ -187,24 +187,28 @@ class GoToPose(Agent):
         approach lane (or the ball is not near the target)."""
         cfg = self.config
         x, y, heading = self._target
-        bx, by = obs.ball_pos_m[0] - x, obs.ball_pos_m[1] - y
+        ball_x, ball_y = obs.ball_pos_m[:2].tolist()
+        torso_x, torso_y = obs.torso_pos_m[:2].tolist()
+        bx, by = ball_x - x, ball_y - y
         if not cfg.avoid_ball or math.hypot(bx, by) > cfg.ball_near_target_m:
             return None
         # Target frame: x along the final heading, origin at the target.
         c, s = math.cos(heading), math.sin(heading)
-        ball = np.array([c * bx + s * by, -s * bx + c * by])
-        rx, ry = obs.torso_pos_m[0] - x, obs.torso_pos_m[1] - y
-        robot = np.array([c * rx + s * ry, -s * rx + c * ry])
+        ball_fwd, ball_left = c * bx + s * by, -s * bx + c * by
+        rx, ry = torso_x - x, torso_y - y
+        robot_fwd, robot_left = c * rx + s * ry, -s * rx + c * ry
         lane = cfg.approach_lane_m
         if self._approaching:
-            self._approaching = abs(robot[1]) < 2 * lane and robot[0] < ball[0] - 0.1
+            self._approaching = abs(robot_left) < 2 * lane and robot_fwd < ball_fwd - 0.1
         else:
             aligned = abs(wrap_angle(heading - yaw)) < cfg.approach_heading_rad
-            self._approaching = (abs(robot[1]) < lane and robot[0] < -lane and aligned) or float(
-                np.hypot(*robot)
+            self._approaching = (abs(robot_left) < lane and robot_fwd < -lane and aligned) or float(
+                np.hypot(robot_fwd, robot_left)
             ) < cfg.tolerance_m
         if self._approaching:
             return None
+        ball = np.array([ball_fwd, ball_left])
+        robot = np.array([robot_fwd, robot_left])
         stage = np.array([-cfg.ball_clearance_m, 0.0])
         way = stage
         away = robot - ball
@@ -225,7 +229,7 @@ class GoToPose(Agent):
             way = ball + radius * np.array([math.cos(angle), math.sin(angle)])
         # Back to the field frame, then into the robot frame.
         wx, wy = c * way[0] - s * way[1] + x, s * way[0] + c * way[1] + y
-        dx, dy = wx - obs.torso_pos_m[0], wy - obs.torso_pos_m[1]
+        dx, dy = wx - torso_x, wy - torso_y
         cy, sy = math.cos(yaw), math.sin(yaw)
         return cy * dx + sy * dy, -sy * dx + cy * dy
 
