@@ -30,6 +30,7 @@ import numpy as np
 from mimic.agents.base import Agent, JointCommand
 from mimic.agents.walk.averages import mean_rows
 from mimic.agents.walk.engine import WalkEngine
+from mimic.robot.actuators import clip_symmetric
 from mimic.world.base import CYCLE_S, Observation
 
 __all__ = ["GoToConfig", "GoToPose", "pose_behind_ball", "wrap_angle"]
@@ -207,28 +208,34 @@ class GoToPose(Agent):
             ) < cfg.tolerance_m
         if self._approaching:
             return None
-        ball = np.array([ball_fwd, ball_left])
-        robot = np.array([robot_fwd, robot_left])
-        stage = np.array([-cfg.ball_clearance_m, 0.0])
-        way = stage
-        away = robot - ball
-        reach = float(np.hypot(*away))
+        stage_fwd, stage_left = -cfg.ball_clearance_m, 0.0
+        way_fwd, way_left = stage_fwd, stage_left
+        away_fwd, away_left = robot_fwd - ball_fwd, robot_left - ball_left
+        reach = float(np.hypot(away_fwd, away_left))
         if reach < cfg.ball_inner_m:
             # Too close to the ball anywhere but the lane: back straight away from it first.
-            way = ball + away / max(reach, 1e-9) * (cfg.ball_clearance_m + 0.05)
-        elif _segment_distance(ball, robot, stage) < cfg.ball_clearance_m:
+            back_m = cfg.ball_clearance_m + 0.05
+            way_fwd = ball_fwd + away_fwd / max(reach, 1e-9) * back_m
+            way_left = ball_left + away_left / max(reach, 1e-9) * back_m
+        elif (
+            _segment_distance(
+                (ball_fwd, ball_left), (robot_fwd, robot_left), (stage_fwd, stage_left)
+            )
+            < cfg.ball_clearance_m
+        ):
             # The way to the staging point passes the ball: orbit it at the clearance, one
             # short chord at a time, on the side that reaches the staging point sooner.
-            here = math.atan2(away[1], away[0])
-            there = math.atan2(stage[1] - ball[1], stage[0] - ball[0])
+            here = math.atan2(away_left, away_fwd)
+            there = math.atan2(stage_left - ball_left, stage_fwd - ball_fwd)
             turn = wrap_angle(there - here)
             if abs(abs(turn) - math.pi) < 0.3:  # straight opposite: pass on the robot's side
-                turn = math.copysign(abs(turn), away[1] if away[1] else 1.0)
+                turn = math.copysign(abs(turn), away_left if away_left else 1.0)
             angle = here + math.copysign(min(abs(turn), cfg.ball_orbit_step_rad), turn)
             radius = max(cfg.ball_clearance_m, min(reach, 1.5 * cfg.ball_clearance_m))
-            way = ball + radius * np.array([math.cos(angle), math.sin(angle)])
+            way_fwd = ball_fwd + radius * math.cos(angle)
+            way_left = ball_left + radius * math.sin(angle)
         # Back to the field frame, then into the robot frame.
-        wx, wy = c * way[0] - s * way[1] + x, s * way[0] + c * way[1] + y
+        wx, wy = c * way_fwd - s * way_left + x, s * way_fwd + c * way_left + y
         dx, dy = wx - torso_x, wy - torso_y
         cy, sy = math.cos(yaw), math.sin(yaw)
         return cy * dx + sy * dy, -sy * dx + cy * dy
@@ -289,9 +296,8 @@ class GoToPose(Agent):
             most = cfg.near_max_yaw_rate_rad_s
             yaw_rate = float(min(max(cfg.near_heading_gain_per_s * dh, -most), most))
             if self.engine.state == "walking" and way is None and dist < cfg.integral_radius_m:
-                self._integral = np.clip(
+                self._integral = clip_symmetric(
                     self._integral + cfg.integral_gain_per_s2 * CYCLE_S * np.array([fx, fy]),
-                    -cfg.max_integral_m_s,
                     cfg.max_integral_m_s,
                 )
             vx = cfg.position_gain_per_s * fx + self._integral[0]
@@ -322,8 +328,9 @@ class GoToPose(Agent):
         self.engine.set_velocity(vx, vy, float(min(max(yaw_rate, -most), most)))
 
 
-def _segment_distance(point: np.ndarray, a: np.ndarray, b: np.ndarray) -> float:
-    """Distance [m] from ``point`` to the segment a-b (2-D)."""
+def _segment_distance(point, a, b) -> float:
+    """Distance [m] from ``point`` to the segment a-b (2-D, each a pair of floats)."""
+    point, a, b = np.array(point), np.array(a), np.array(b)
     ab = b - a
     t = float(min(max(np.dot(point - a, ab) / max(float(np.dot(ab, ab)), 1e-12), 0.0), 1.0))
     return float(np.hypot(*(a + t * ab - point)))
