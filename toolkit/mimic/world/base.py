@@ -10,7 +10,6 @@ from __future__ import annotations
 import math
 from abc import ABC, abstractmethod
 from dataclasses import dataclass
-from functools import cached_property
 
 import numpy as np
 
@@ -88,10 +87,9 @@ class Observation:
     torso_pos_m: np.ndarray
     ball_pos_m: np.ndarray
 
-    @cached_property
+    @property
     def torso_yaw_rad(self) -> float:
-        """Heading of the torso x axis in the field frame [rad] (worked out once: an
-        observation is not changed after it is made, and several agents read it)."""
+        """Heading of the torso x axis in the field frame [rad]."""
         return yaw_from_quat(self.torso_quat_wxyz)
 
 
