@@ -34,7 +34,7 @@ import numpy as np
 
 from mimic.agents.base import Agent, JointCommand
 from mimic.agents.walk.averages import mean_rows
-from mimic.agents.walk.gait import StepPlan, WalkConfig, feet_at, nominal_foot, plan_step
+from mimic.agents.walk.gait import StepPlan, WalkConfig, foot_rows_at, nominal_foot, plan_step
 from mimic.geometry import torso_pitch_roll as _pitch_roll_left
 from mimic.robot.actuators import clip_symmetric
 from mimic.robot.joints import joint_index
@@ -179,7 +179,7 @@ class WalkEngine(Agent):
         if state == "halting":
             self._halt_from_walk = self._state_before == "walking"
             if self._halt_from_walk:
-                self._halt_hold = self._walk_pose(self._plan.end, self._lean())
+                self._halt_hold = self._walk_pose(self._plan.end.tolist(), self._lean())
             else:
                 self._halt_hold = (
                     self._prev_ref if self._prev_ref is not None else self._blend_from
@@ -266,13 +266,13 @@ class WalkEngine(Agent):
             self._line_step = np.zeros(2)
 
     # --- internals ------------------------------------------------------------------------
-    def _walk_pose(self, feet: np.ndarray, lean_rad: float) -> np.ndarray:
-        """(N,) joint angles putting the feet (2, 4) of the walk frame under a leaning torso."""
+    def _walk_pose(self, feet: list[list[float]], lean_rad: float) -> np.ndarray:
+        """(N,) joint angles putting the feet (left, right: x, y, z, yaw) of the walk frame
+        under a leaning torso."""
         q = self._stand.copy()
-        rows = feet.tolist()
         c, s = math.cos(lean_rad), math.sin(lean_rad)
         for side in (0, 1):
-            x, y, z, yaw = rows[side]
+            x, y, z, yaw = feet[side]
             # Into the torso frame: tilt = Ry(lean)^T onto the foot position and onto the
             # foot rotation Rz(yaw), written out (each entry is the one non-zero product).
             cz, sz = math.cos(yaw), math.sin(yaw)
@@ -282,8 +282,8 @@ class WalkEngine(Agent):
         swing = self.config.arm_swing_rad_per_m
         if swing:
             # The arm goes with the opposite leg, cancelling part of its yaw moment.
-            q[_SHOULDERS[0]] += swing * (rows[1][0] - self.config.ankle_x_m)
-            q[_SHOULDERS[1]] += swing * (rows[0][0] - self.config.ankle_x_m)
+            q[_SHOULDERS[0]] += swing * (feet[1][0] - self.config.ankle_x_m)
+            q[_SHOULDERS[1]] += swing * (feet[0][0] - self.config.ankle_x_m)
         return q
 
     def _lean(self) -> float:
@@ -366,7 +366,7 @@ class WalkEngine(Agent):
             self._blend_t += CYCLE_S
             a = min(1.0, self._blend_t / cfg.blend_s)
             a = 0.5 * (1 - math.cos(math.pi * a))
-            target = self._walk_pose(self._plan.start, self._lean())
+            target = self._walk_pose(self._plan.start.tolist(), self._lean())
             ref = (1 - a) * self._blend_from + a * target
             if self._blend_t >= cfg.blend_s - 1e-9:
                 self._begin("walking")
@@ -383,14 +383,14 @@ class WalkEngine(Agent):
             self._start_step()
             self._cycle_in_step = 1
         phase = self._cycle_in_step / cfg.step_cycles
-        feet = feet_at(cfg, self._plan, phase)
+        feet = foot_rows_at(cfg, self._plan, phase)
         if cfg.yaw_hold_gain:
             err = float(min(max(_wrap(self._yaw_rad - self._aim_rad), -0.3), 0.3))
-            feet[self._plan.support, 3] += cfg.yaw_hold_gain * err
+            feet[self._plan.support][3] += cfg.yaw_hold_gain * err
         nominal = self._walk_pose(feet, self._lean())
         if self._prev_nominal is not None and cfg.max_reference_speed_rad_s:
             nominal = self._rate_limited(nominal)
-        return nominal, self._feedback(nominal.copy(), obs)
+        return nominal, self._feedback(nominal, obs)
 
     def _halt_reference(self, obs: Observation) -> tuple[np.ndarray, np.ndarray]:
         """Halting: after the last step, hold the walk stance with both feet down for
@@ -403,7 +403,7 @@ class WalkEngine(Agent):
         a = min(1.0, max(0.0, self._blend_t - settle) / cfg.blend_s)
         a = 0.5 * (1 - math.cos(math.pi * a))
         nominal = (1 - a) * hold + a * self._stand
-        ref = nominal + (1 - a) * (self._feedback(nominal.copy(), obs, both_support=True) - nominal)
+        ref = nominal + (1 - a) * (self._feedback(nominal, obs, both_support=True) - nominal)
         if self._blend_t >= settle + cfg.blend_s - 1e-9:
             self._begin("standing")
         return nominal, ref
@@ -436,12 +436,13 @@ class WalkEngine(Agent):
         self._plan = plan_step(self.config, support, end, self._step_cmd)
 
     def _feedback(
-        self, ref: np.ndarray, obs: Observation, both_support: bool = False
+        self, nominal: np.ndarray, obs: Observation, both_support: bool = False
     ) -> np.ndarray:
-        """``ref`` plus IMU feedback (in place): torso tilt (this cycle's, read by ``act``)
-        onto both hips and, as foot placement, onto the swing hip; torso tilt onto the support
-        ankle, gyro rates onto both ankles."""
+        """``nominal`` plus IMU feedback (a new array): torso tilt (this cycle's, read by
+        ``act``) onto both hips and, as foot placement, onto the swing hip; torso tilt onto
+        the support ankle, gyro rates onto both ankles."""
         cfg = self.config
+        ref = nominal.tolist()  # joint by joint: plain floats
         gx, gy, _ = obs.gyro_rad_s.tolist()
         pitch, roll = self._tilt
         pitch -= self._lean()
@@ -457,4 +458,4 @@ class WalkEngine(Agent):
             else:
                 ref[legs[4]] += cfg.ankle_pitch_gain * pitch
                 ref[legs[5]] += cfg.ankle_roll_gain * roll
-        return ref
+        return np.array(ref)

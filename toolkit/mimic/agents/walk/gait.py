@@ -28,7 +28,7 @@ import numpy as np
 from mimic.agents.walk.lipm import lateral_fraction, pendulum_rate_per_s, sagittal_fraction
 from mimic.world.base import CYCLE_S
 
-__all__ = ["WalkConfig", "StepPlan", "nominal_foot", "plan_step", "feet_at"]
+__all__ = ["WalkConfig", "StepPlan", "nominal_foot", "plan_step", "feet_at", "foot_rows_at"]
 
 
 @dataclass(frozen=True)
@@ -200,6 +200,14 @@ def plan_step(cfg: WalkConfig, support: int, start: np.ndarray, command: np.ndar
 
 def feet_at(cfg: WalkConfig, plan: StepPlan, phase: float, sway_scale: float = 1.0) -> np.ndarray:
     """(2, 4) foot poses in the walk frame at ``phase`` in [0, 1] of the step."""
+    return np.array(foot_rows_at(cfg, plan, phase, sway_scale))
+
+
+def foot_rows_at(
+    cfg: WalkConfig, plan: StepPlan, phase: float, sway_scale: float = 1.0
+) -> list[list[float]]:
+    """``feet_at`` as two lists (left, right) of four floats: the walk engine's form, every
+    cycle, so worked out on plain floats."""
     k = pendulum_rate_per_s(cfg.com_height_m)
     phase = min(max(phase, 0.0), 1.0)
     lipm = sagittal_fraction(phase, k, cfg.step_time_s) + 0.5
@@ -207,7 +215,7 @@ def feet_at(cfg: WalkConfig, plan: StepPlan, phase: float, sway_scale: float = 1
     lift = cfg.lift_start_fraction
     swing = min(1.0, max(0.0, phase - lift) / max(cfg.swing_fraction - lift, 1e-6))
     swing_f = 0.5 * (1 - math.cos(math.pi * swing))
-    # On plain floats (this runs every cycle): each foot moves from start toward end.
+    # Each foot moves from its start toward its end.
     sup, sw = plan.support, 1 - plan.support
     start, end = plan.start.tolist(), plan.end.tolist()
     feet = [[], []]
@@ -224,4 +232,4 @@ def feet_at(cfg: WalkConfig, plan: StepPlan, phase: float, sway_scale: float = 1
     )
     for foot in feet:
         foot[1] -= toward * sway
-    return np.array(feet)
+    return feet
