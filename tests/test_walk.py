@@ -8,10 +8,8 @@ import numpy as np
 import pytest
 
 from mimic.agents.walk import WalkEngine, make_walk_agent
-from mimic.agents.walk.averages import mean_rows
 from mimic.agents.walk.goto import GoToPose, pose_behind_ball, wrap_angle
 from mimic.checks.ball_approach import approach_starts, walk_behind_ball
-from mimic.robot.actuators import clip_symmetric
 from mimic.robot.nao import nao
 from mimic.world.base import World
 from mimic.world.mujoco_world import MujocoWorld
@@ -169,24 +167,3 @@ def test_go_to_pose_behind_the_ball_leaves_it_in_place(world: World) -> None:
     ]
     assert sum(r.fell for r in results) <= 1, results
     assert sum(r.ok for r in results) >= 10, [r for r in results if not r.ok]
-
-
-def test_gait_period_means_are_numpys_bit_for_bit() -> None:
-    """``mean_rows`` (the walk's averages over a gait period, on floats) gives exactly what
-    ``np.mean(rows, axis=0)`` gives, signed zeros included."""
-    rng = np.random.default_rng(5)
-    for k in range(2000):
-        n, width = 1 + k % 16, 2 + 2 * (k % 2)
-        rows = rng.normal(size=(n, width)) * 10.0 ** rng.uniform(-4, 4, size=(n, width))
-        if k % 7 == 0:
-            rows = rng.choice([0.0, -0.0, 1e-300, -1.0], size=(n, width))
-        rows = [tuple(row) for row in rows.tolist()]
-        assert np.array(mean_rows(rows)).tobytes() == np.mean(rows, axis=0).tobytes()
-
-
-def test_symmetric_clip_is_np_clip_bit_for_bit() -> None:
-    rng = np.random.default_rng(6)
-    for limit in (6.1395, 4.889 * 0.02, 0.12):
-        values = rng.normal(0.0, 2 * limit, 500)
-        values[:4] = (limit, -limit, 0.0, -0.0)
-        assert clip_symmetric(values, limit).tobytes() == np.clip(values, -limit, limit).tobytes()

@@ -19,6 +19,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from mimic.errors import MimicError
+from mimic.floats import clip_symmetric
 
 __all__ = [
     "JointCommand",
@@ -27,21 +28,12 @@ __all__ = [
     "ActuatorModel",
     "MAX_JOINT_SPEED_RAD_S",
     "DEFAULT_TRACKING_GAIN_PER_S",
-    "clip_symmetric",
 ]
 
 #: The study's simulator caps commanded joint speed at this [rad/s] (7.035 deg per 20 ms).
 MAX_JOINT_SPEED_RAD_S = 6.1395
 #: Proportional tracking gain of the NAO's own agents [1/s]: a 0.1 rad error asks 2.5 rad/s.
 DEFAULT_TRACKING_GAIN_PER_S = 25.0
-
-
-def clip_symmetric(values, limit: float) -> np.ndarray:
-    """``np.clip(values, -limit, limit)`` for a ``limit`` > 0, the same numbers without
-    np.clip's Python dispatch (a few microseconds; the walk clips four times a cycle). With
-    non-zero bounds, maximum-then-minimum is clip exactly: a value equal to a bound is that
-    bound."""
-    return np.minimum(np.maximum(values, -limit), limit)
 
 
 @dataclass(frozen=True, eq=False)

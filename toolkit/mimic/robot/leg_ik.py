@@ -25,6 +25,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from mimic.floats import acos_domain, clamp
 from mimic.robot.description import body_by_name
 from mimic.robot.joints import joint_index, lower_limits_rad, upper_limits_rad
 
@@ -210,9 +211,9 @@ def _solve(g: LegGeometry, ap, rot) -> list[float]:
     # Knee: |Ry(q4) thigh + shank|^2 = l1^2 + l2^2 + 2 l1 l2 cos(beta + q4 - gamma), the 5 mm
     # knee offset appearing as the constant angles beta, gamma; the knee bends with q4 < 0.
     dist = math.sqrt(vx * vx + vy * vy + vz * vz)
-    dist = min(max(dist, g.reach_min_m), g.reach_max_m)
+    dist = clamp(dist, g.reach_min_m, g.reach_max_m)
     c = (g.l_squares - dist * dist) / g.l_twice_product
-    q4 = _wrap(g.knee_offset_rad - (math.pi - math.acos(max(-1.0, min(1.0, c)))))
+    q4 = _wrap(g.knee_offset_rad - (math.pi - math.acos(acos_domain(c))))
     # In the foot's sagittal plane: p = Rx(q6) r = Ry(q5) m with m = Ry(q4) thigh + shank.
     c6, s6 = math.cos(q6), math.sin(q6)
     px, pz = rx, s6 * ry + c6 * rz
@@ -244,7 +245,7 @@ def _solve(g: LegGeometry, ap, rot) -> list[float]:
     m20 = -ss * rot1_b0 + cs * rot2_b0
     m21 = -ss * rot1_b1 + cs * rot2_b1
     m22 = -ss * rot1_b2 + cs * rot2_b2
-    phi = math.asin(max(-1.0, min(1.0, m21)))
+    phi = math.asin(acos_domain(m21))
     theta = math.atan2(-m20, m22)
     psi = math.atan2(-m01, m11)
     return [g.hyp_sign * psi, phi + g.sigma_rad, -theta, q4, q5, q6]
@@ -289,8 +290,7 @@ def leg_ik_floats(side: str, ankle_xyz_m, rot_rows, passes: int = 3) -> list[flo
     three floats; the six angles [rad] come back as a list. Same arithmetic, same result."""
     g = _GEOMETRY[side]
     q = _solve_passes(g, ankle_xyz_m, rot_rows, passes)
-    # min(max()) is np.clip's rule for one float, bit for bit.
-    return [min(max(a, lo), hi) for a, lo, hi in zip(q, g.lower_f, g.upper_f)]
+    return [clamp(a, lo, hi) for a, lo, hi in zip(q, g.lower_f, g.upper_f)]  # np.clip's
 
 
 def _solve_passes(g: LegGeometry, ankle_xyz_m, rot_rows, passes: int) -> list[float]:

@@ -14,6 +14,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from mimic.errors import MimicError
+from mimic.floats import acos_domain
 from mimic.geometry import in_robot_frame, yaw_from_quat
 from mimic.robot.actuators import JointCommand
 from mimic.robot.model import RobotDescription
@@ -221,7 +222,7 @@ class World(ABC):
         return 2 * (x * z - w * y)
 
     def _tilt_rad(self) -> float:
-        return math.acos(max(-1.0, min(1.0, self.torso_up_z())))
+        return math.acos(acos_domain(self.torso_up_z()))
 
     def fallen(self) -> bool:
         """Torso too low or tilted too far (the robot's ``FallThresholds``)."""

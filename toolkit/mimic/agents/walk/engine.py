@@ -33,10 +33,9 @@ import math
 import numpy as np
 
 from mimic.agents.base import Agent, JointCommand
-from mimic.agents.walk.averages import mean_rows
 from mimic.agents.walk.gait import StepPlan, WalkConfig, foot_rows_at, nominal_foot, plan_step
+from mimic.floats import clamp, clip_symmetric, mean_rows
 from mimic.geometry import torso_pitch_roll as _pitch_roll_left
-from mimic.robot.actuators import clip_symmetric
 from mimic.robot.joints import joint_index
 from mimic.robot.leg_ik import leg_fk, leg_ik_floats, leg_joint_indices
 from mimic.robot.nao import nao
@@ -246,7 +245,7 @@ class WalkEngine(Agent):
             c, s = math.cos(h), math.sin(h)
             offset = -s * (pos[0] - x0) + c * (pos[1] - y0)
             sign = 1.0 if vx >= 0 else -1.0
-            aim = min(max(cfg.line_gain * offset, -cfg.max_line_aim_rad), cfg.max_line_aim_rad)
+            aim = clamp(cfg.line_gain * offset, -cfg.max_line_aim_rad, cfg.max_line_aim_rad)
             self._aim_rad = _wrap(h - sign * float(aim))
         elif cfg.side_line_gain and vy != 0.0 and yaw_rate == 0.0:
             # Sideways or diagonal: the heading must stay (it is part of the command), so the
@@ -257,7 +256,7 @@ class WalkEngine(Agent):
             x0, y0, h = self._line
             offset = -math.sin(h) * (pos[0] - x0) + math.cos(h) * (pos[1] - y0)
             most = cfg.max_side_line_step_m
-            back = float(min(max(cfg.side_line_gain * offset, -most), most))
+            back = float(clamp(cfg.side_line_gain * offset, -most, most))
             across = h + math.pi / 2 - self._mean_yaw_rad  # the line's left, robot frame
             self._line_step = -back * np.array([math.cos(across), math.sin(across)])
         else:
@@ -352,7 +351,7 @@ class WalkEngine(Agent):
     def _odometry_weight(self) -> float:
         """1 for short forward steps, fading to 0 at ``odometry_fade_step_m``."""
         fade = self.config.odometry_fade_step_m
-        return float(min(max(1.0 - abs(self._step_base[0]) / fade, 0.0), 1.0)) if fade else 1.0
+        return float(clamp(1.0 - abs(self._step_base[0]) / fade, 0.0, 1.0)) if fade else 1.0
 
     def _reference(self, obs: Observation) -> tuple[np.ndarray, np.ndarray]:
         """(nominal, reference) joint angles for the end of this cycle, (N,) each [rad]."""
@@ -385,7 +384,7 @@ class WalkEngine(Agent):
         phase = self._cycle_in_step / cfg.step_cycles
         feet = foot_rows_at(cfg, self._plan, phase)
         if cfg.yaw_hold_gain:
-            err = float(min(max(_wrap(self._yaw_rad - self._aim_rad), -0.3), 0.3))
+            err = float(clamp(_wrap(self._yaw_rad - self._aim_rad), -0.3, 0.3))
             feet[self._plan.support][3] += cfg.yaw_hold_gain * err
         nominal = self._walk_pose(feet, self._lean())
         if self._prev_nominal is not None and cfg.max_reference_speed_rad_s:

@@ -26,6 +26,7 @@ from functools import cached_property
 import numpy as np
 
 from mimic.agents.walk.lipm import lateral_fraction, pendulum_rate_per_s, sagittal_fraction
+from mimic.floats import clamp
 from mimic.world.base import CYCLE_S
 
 __all__ = ["WalkConfig", "StepPlan", "nominal_foot", "plan_step", "feet_at", "foot_rows_at"]
@@ -209,7 +210,7 @@ def foot_rows_at(
     """``feet_at`` as two lists (left, right) of four floats: the walk engine's form, every
     cycle, so worked out on plain floats."""
     k = pendulum_rate_per_s(cfg.com_height_m)
-    phase = min(max(phase, 0.0), 1.0)
+    phase = clamp(phase, 0.0, 1.0)
     lipm = sagittal_fraction(phase, k, cfg.step_time_s) + 0.5
     support_f = cfg.lipm_blend * lipm + (1 - cfg.lipm_blend) * phase
     lift = cfg.lift_start_fraction

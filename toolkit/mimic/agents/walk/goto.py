@@ -28,9 +28,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from mimic.agents.base import Agent, JointCommand
-from mimic.agents.walk.averages import mean_rows
 from mimic.agents.walk.engine import WalkEngine
-from mimic.robot.actuators import clip_symmetric
+from mimic.floats import clamp, clip_symmetric, mean_rows
 from mimic.world.base import CYCLE_S, Observation
 
 __all__ = ["GoToConfig", "GoToPose", "pose_behind_ball", "wrap_angle"]
@@ -294,7 +293,7 @@ class GoToPose(Agent):
             # Gentler near the target: the torso's yaw swings with every step, and a fast
             # heading loop on top of the walk's own heading hold rings.
             most = cfg.near_max_yaw_rate_rad_s
-            yaw_rate = float(min(max(cfg.near_heading_gain_per_s * dh, -most), most))
+            yaw_rate = float(clamp(cfg.near_heading_gain_per_s * dh, -most, most))
             if self.engine.state == "walking" and way is None and dist < cfg.integral_radius_m:
                 self._integral = clip_symmetric(
                     self._integral + cfg.integral_gain_per_s2 * CYCLE_S * np.array([fx, fy]),
@@ -308,8 +307,8 @@ class GoToPose(Agent):
             elif dist > cfg.stop_fraction * cfg.tolerance_m:
                 scale = max(1.0, low / max(math.hypot(vx, vy), 1e-9))
                 vx, vy = vx * scale, vy * scale
-        vx = float(min(max(vx, -0.5 * cfg.max_vx_m_s), cfg.max_vx_m_s))
-        vy = float(min(max(vy, -cfg.max_vy_m_s), cfg.max_vy_m_s))
+        vx = float(clamp(vx, -0.5 * cfg.max_vx_m_s, cfg.max_vx_m_s))
+        vy = float(clamp(vy, -cfg.max_vy_m_s, cfg.max_vy_m_s))
         if cfg.max_decel_m_s2:
             brake = math.sqrt(2 * cfg.max_decel_m_s2 * dist)
             scale = min(1.0, brake / max(math.hypot(vx, vy), 1e-9))
@@ -323,14 +322,14 @@ class GoToPose(Agent):
                     # Line up first, then step in: sideways and turning steps next to the
                     # ball are the ones that reach it, so the forward part waits for them.
                     off = max(abs(fy) / cfg.tolerance_m, abs(dh) / cfg.tolerance_rad)
-                    vx *= float(min(max(2.0 - off, 0.0), 1.0))
+                    vx *= float(clamp(2.0 - off, 0.0, 1.0))
         most = cfg.max_yaw_rate_rad_s
-        self.engine.set_velocity(vx, vy, float(min(max(yaw_rate, -most), most)))
+        self.engine.set_velocity(vx, vy, float(clamp(yaw_rate, -most, most)))
 
 
 def _segment_distance(point, a, b) -> float:
     """Distance [m] from ``point`` to the segment a-b (2-D, each a pair of floats)."""
     point, a, b = np.array(point), np.array(a), np.array(b)
     ab = b - a
-    t = float(min(max(np.dot(point - a, ab) / max(float(np.dot(ab, ab)), 1e-12), 0.0), 1.0))
+    t = float(clamp(np.dot(point - a, ab) / max(float(np.dot(ab, ab)), 1e-12), 0.0, 1.0))
     return float(np.hypot(*(a + t * ab - point)))
