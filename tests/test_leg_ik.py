@@ -14,6 +14,7 @@ from mimic.robot.leg_ik import (
     leg_fk,
     leg_geometry,
     leg_ik,
+    leg_ik_floats,
     leg_joint_indices,
     rpy_matrix,
     sole_to_ankle,
@@ -111,3 +112,17 @@ def test_sole_target_round_trip() -> None:
     q = leg_ik("left", ankle, r)
     p, r2 = leg_fk("left", q)
     np.testing.assert_allclose(p + r2 @ leg_geometry("left").sole, sole, atol=1e-3)
+
+
+@pytest.mark.parametrize("side", SIDES)
+def test_the_float_path_gives_leg_ik_bit_for_bit(side: str) -> None:
+    """The walk engine's ``leg_ik_floats`` is ``leg_ik`` on plain floats: the same numbers,
+    to the last bit (a walk's trial tables must not change with it)."""
+    rng = np.random.default_rng(3)
+    for k in range(300):
+        pos = np.array([0.0, 0.05 if side == "left" else -0.05, -0.28]) + rng.normal(0, 0.08, 3)
+        rot = rpy_matrix(*rng.normal(0, 0.3, 3))
+        passes = 1 + k % 3
+        q = leg_ik(side, pos, rot, passes=passes)
+        q_floats = leg_ik_floats(side, pos.tolist(), rot.tolist(), passes=passes)
+        assert np.array(q_floats).tobytes() == q.tobytes()

@@ -25,9 +25,17 @@ __all__ = [
 ]
 
 
+def _floats(q_wxyz):
+    """A float64 array's numbers as Python floats (the same values and arithmetic, quicker
+    one at a time than numpy's scalars); anything else as it is."""
+    if isinstance(q_wxyz, np.ndarray) and q_wxyz.dtype == np.float64:
+        return q_wxyz.tolist()
+    return q_wxyz
+
+
 def yaw_from_quat(q_wxyz) -> float:
     """Heading [rad] of the body x axis projected on the ground (0: along field x)."""
-    w, x, y, z = q_wxyz
+    w, x, y, z = _floats(q_wxyz)
     return math.atan2(2 * (w * z + x * y), 1 - 2 * (y * y + z * z))
 
 
@@ -36,11 +44,12 @@ def torso_pitch_roll(q_wxyz) -> tuple[float, float]:
 
     Measured in the torso's heading frame, so they do not depend on where it faces.
     """
-    w, x, y, z = q_wxyz
+    q = _floats(q_wxyz)
+    w, x, y, z = q
     # Torso z axis in the world (third column of the rotation matrix), then in the heading
     # frame.
     zx, zy, zz = 2 * (x * z + w * y), 2 * (y * z - w * x), 1 - 2 * (x * x + y * y)
-    yaw = yaw_from_quat(q_wxyz)
+    yaw = yaw_from_quat(q)
     c, s = math.cos(yaw), math.sin(yaw)
     fwd, left = c * zx + s * zy, -s * zx + c * zy
     return math.atan2(fwd, zz), math.atan2(left, zz)

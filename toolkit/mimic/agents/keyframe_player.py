@@ -23,14 +23,16 @@ class KeyframePlayer(Agent):
         self.start_posture = movement.start_posture
         self._start_s = 0.0
         self._spline = movement.spline()
+        self._duration_s = movement.duration_s
 
     def reset(self, obs: Observation) -> None:
         self._start_s = obs.time_s
         self._spline = self.movement.spline(obs.joint_angles_rad)
+        self._duration_s = self.movement.duration_s
         self.done = False
 
     def act(self, obs: Observation) -> JointCommand:
         t = obs.time_s - self._start_s
         self.reference_rad = self._spline(t)
-        self.done = t >= self.movement.duration_s + self.hold_s - 1e-9
+        self.done = t >= self._duration_s + self.hold_s - 1e-9
         return JointCommand.references(self.reference_rad)

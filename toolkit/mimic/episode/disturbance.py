@@ -235,6 +235,7 @@ class Pusher(Observer):
         self._next_s = math.inf
         self._until_s = -math.inf
         self._force = np.zeros(3)
+        self._pushing = False  # a non-zero force is on
 
     def arm(self, world: World) -> None:
         """Pushes start ``push_after_s`` after now, at Poisson times."""
@@ -246,14 +247,16 @@ class Pusher(Observer):
 
     def before_step(self, world: World, obs, agent, command) -> None:
         t = world.time_s
-        if t >= self._until_s and self._force.any():
+        if self._pushing and t >= self._until_s:
             self._force = np.zeros(3)
+            self._pushing = False
             world.push_torso(self._force)
         if t + 1e-9 >= self._next_s:
             s = self._d.spec
             angle = float(self._d._rng.uniform(-math.pi, math.pi))
             size_n = world.robot_mass_kg() * self._d.push_speed_m_s / s.push_duration_s
             self._force = size_n * np.array([math.cos(angle), math.sin(angle), 0.0])
+            self._pushing = bool(self._force.any())
             world.push_torso(self._force)
             self.pushed.append((t, self._force.copy()))
             self._until_s = t + s.push_duration_s - 1e-9

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import bisect
+
 import numpy as np
 
 __all__ = ["NaturalCubicSpline"]
@@ -20,6 +22,8 @@ class NaturalCubicSpline:
             raise ValueError("spline knots need at least two strictly increasing times")
         self.t, self.y = t, y
         self.m = self._second_derivatives(t, y)  # (n, k)
+        # The knot times as Python floats: a player reads them every cycle.
+        self._knots_s = t.tolist()
 
     @staticmethod
     def _second_derivatives(t: np.ndarray, y: np.ndarray) -> np.ndarray:
@@ -46,12 +50,12 @@ class NaturalCubicSpline:
 
     def __call__(self, time_s: float) -> np.ndarray:
         """(k,) interpolated values at ``time_s``."""
-        t, y, m = self.t, self.y, self.m
+        t, y, m = self._knots_s, self.y, self.m
         if time_s <= t[0]:
             return y[0].copy()
         if time_s >= t[-1]:
             return y[-1].copy()
-        i = int(np.searchsorted(t, time_s, side="right")) - 1
+        i = bisect.bisect_right(t, time_s) - 1  # the segment holding time_s
         h = t[i + 1] - t[i]
         a, b = (t[i + 1] - time_s) / h, (time_s - t[i]) / h
         return a * y[i] + b * y[i + 1] + ((a**3 - a) * m[i] + (b**3 - b) * m[i + 1]) * h * h / 6

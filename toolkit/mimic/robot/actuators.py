@@ -19,6 +19,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from mimic.errors import MimicError
+from mimic.floats import clip_symmetric
 
 __all__ = [
     "JointCommand",
@@ -88,14 +89,12 @@ class SpeedServos:
     ) -> np.ndarray:
         """(N,) speeds [rad/s] = gain (reference - angle), capped."""
         gain = self.tracking_gain_per_s if gain_per_s is None else gain_per_s
-        return np.clip(
-            gain * (reference_rad - angles_rad), -self.max_speed_rad_s, self.max_speed_rad_s
-        )
+        return clip_symmetric(gain * (reference_rad - angles_rad), self.max_speed_rad_s)
 
     def speed_commands(self, command: JointCommand, angles_rad: np.ndarray) -> np.ndarray:
         """(N,) capped speed commands [rad/s] for ``command`` at the current angles."""
         if command.speed_rad_s is not None:
-            return np.clip(command.speed_rad_s, -self.max_speed_rad_s, self.max_speed_rad_s)
+            return clip_symmetric(command.speed_rad_s, self.max_speed_rad_s)
         return self.track(command.reference_rad, angles_rad)
 
     def controls(

@@ -25,6 +25,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from mimic.floats import acos_domain, clamp
 from mimic.robot.description import body_by_name
 from mimic.robot.joints import joint_index, lower_limits_rad, upper_limits_rad
 
@@ -32,6 +33,7 @@ __all__ = [
     "LegGeometry",
     "leg_geometry",
     "leg_ik",
+    "leg_ik_floats",
     "leg_fk",
     "leg_joint_indices",
     "sole_to_ankle",
@@ -108,10 +110,20 @@ class LegGeometry:
         put("thigh_f", tuple(float(v) for v in self.thigh))
         put("shank_f", tuple(float(v) for v in self.shank))
         put("ankle_f", tuple(float(v) for v in self.ankle))
+        put("lower_f", tuple(float(v) for v in self.lower_rad))
+        put("upper_f", tuple(float(v) for v in self.upper_rad))
         put("l1", math.hypot(self.thigh[0], self.thigh[2]))
         put("l2", math.hypot(self.shank[0], self.shank[2]))
         put("beta", math.atan2(self.thigh[0], self.thigh[2]))
         put("gamma", math.atan2(self.shank[0], self.shank[2]))
+        # The knee's law of cosines: the reach kept inside (|l1 - l2|, l1 + l2), the constant
+        # terms, and the knee angle's offset from the two 5 mm offsets.
+        l1, l2 = self.l1, self.l2
+        put("reach_min_m", abs(l1 - l2) + 1e-3)
+        put("reach_max_m", l1 + l2 - 1e-9)
+        put("l_squares", l1 * l1 + l2 * l2)
+        put("l_twice_product", 2 * l1 * l2)
+        put("knee_offset_rad", self.gamma - self.beta)
         put("cos_sigma", math.cos(self.sigma_rad))
         put("sin_sigma", math.sin(self.sigma_rad))
         # +1 if the yaw-pitch axis is Rx(sigma) z, -1 if it is -Rx(sigma) z.
@@ -184,7 +196,8 @@ def sole_to_ankle(side: str, sole_pos_m: np.ndarray, rot: np.ndarray) -> np.ndar
 def _solve(g: LegGeometry, ap, rot) -> list[float]:
     """Angles putting the ankle-pitch anchor at ``ap`` with foot rotation ``rot``.
 
-    Plain floats throughout (rot as nested lists): this runs twice per leg every cycle.
+    Plain floats throughout (rot as nested lists or tuples): this runs twice per leg every
+    cycle.
     """
     (r00, r01, r02), (r10, r11, r12), (r20, r21, r22) = rot
     hx, hy, hz = g.hip_f
@@ -195,41 +208,44 @@ def _solve(g: LegGeometry, ap, rot) -> list[float]:
     ry = r01 * vx + r11 * vy + r21 * vz
     rz = r02 * vx + r12 * vy + r22 * vz
     q6 = math.atan2(-ry, -rz)
-    l1, l2, beta, gamma = g.l1, g.l2, g.beta, g.gamma
     # Knee: |Ry(q4) thigh + shank|^2 = l1^2 + l2^2 + 2 l1 l2 cos(beta + q4 - gamma), the 5 mm
     # knee offset appearing as the constant angles beta, gamma; the knee bends with q4 < 0.
     dist = math.sqrt(vx * vx + vy * vy + vz * vz)
-    dist = min(max(dist, abs(l1 - l2) + 1e-3), l1 + l2 - 1e-9)
-    c = (l1 * l1 + l2 * l2 - dist * dist) / (2 * l1 * l2)
-    q4 = _wrap(gamma - beta - (math.pi - math.acos(max(-1.0, min(1.0, c)))))
+    dist = clamp(dist, g.reach_min_m, g.reach_max_m)
+    c = (g.l_squares - dist * dist) / g.l_twice_product
+    q4 = _wrap(g.knee_offset_rad - (math.pi - math.acos(acos_domain(c))))
     # In the foot's sagittal plane: p = Rx(q6) r = Ry(q5) m with m = Ry(q4) thigh + shank.
     c6, s6 = math.cos(q6), math.sin(q6)
     px, pz = rx, s6 * ry + c6 * rz
-    tx, tz = g.thigh_f[0], g.thigh_f[2]
+    tx, _, tz = g.thigh_f
+    sx, _, sz = g.shank_f
     c4, s4 = math.cos(q4), math.sin(q4)
-    mx = c4 * tx + s4 * tz + g.shank_f[0]
-    mz = -s4 * tx + c4 * tz + g.shank_f[2]
+    mx = c4 * tx + s4 * tz + sx
+    mz = -s4 * tx + c4 * tz + sz
     q5 = _wrap(math.atan2(px, pz) - math.atan2(mx, mz))
     # Hip: M = Rx(-sigma) rot Rx(-q6) Ry(q4 + q5) = Rz(psi) Rx(phi) Ry(-q3).
     # Columns of B = Rx(-q6) Ry(a): needed rows of rot @ B, then Rx(-sigma).
     a = q4 + q5
     ca, sa = math.cos(a), math.sin(a)
-    b0 = (ca, -s6 * sa, -c6 * sa)  # column 0 of Rx(-q6) Ry(a)
-    b1 = (0.0, c6, -s6)  # column 1
-    b2 = (sa, s6 * ca, c6 * ca)  # column 2
-
-    def rb(row, col):
-        return row[0] * col[0] + row[1] * col[1] + row[2] * col[2]
-
-    row0, row1, row2 = (r00, r01, r02), (r10, r11, r12), (r20, r21, r22)
+    b0x, b0y, b0z = ca, -s6 * sa, -c6 * sa  # column 0 of Rx(-q6) Ry(a)
+    b1x, b1y, b1z = 0.0, c6, -s6  # column 1
+    b2x, b2y, b2z = sa, s6 * ca, c6 * ca  # column 2
+    # Row i of rot dotted with column j of B (written out: this is the solver's inner loop).
+    rot0_b1 = r00 * b1x + r01 * b1y + r02 * b1z
+    rot1_b0 = r10 * b0x + r11 * b0y + r12 * b0z
+    rot1_b1 = r10 * b1x + r11 * b1y + r12 * b1z
+    rot1_b2 = r10 * b2x + r11 * b2y + r12 * b2z
+    rot2_b0 = r20 * b0x + r21 * b0y + r22 * b0z
+    rot2_b1 = r20 * b1x + r21 * b1y + r22 * b1z
+    rot2_b2 = r20 * b2x + r21 * b2y + r22 * b2z
     cs, ss = g.cos_sigma, g.sin_sigma
     # Rows of Rx(-sigma): (1,0,0), (0, cs, ss), (0, -ss, cs).
-    m01 = rb(row0, b1)
-    m11 = cs * rb(row1, b1) + ss * rb(row2, b1)
-    m20 = -ss * rb(row1, b0) + cs * rb(row2, b0)
-    m21 = -ss * rb(row1, b1) + cs * rb(row2, b1)
-    m22 = -ss * rb(row1, b2) + cs * rb(row2, b2)
-    phi = math.asin(max(-1.0, min(1.0, m21)))
+    m01 = rot0_b1
+    m11 = cs * rot1_b1 + ss * rot2_b1
+    m20 = -ss * rot1_b0 + cs * rot2_b0
+    m21 = -ss * rot1_b1 + cs * rot2_b1
+    m22 = -ss * rot1_b2 + cs * rot2_b2
+    phi = math.asin(acos_domain(m21))
     theta = math.atan2(-m20, m22)
     psi = math.atan2(-m01, m11)
     return [g.hyp_sign * psi, phi + g.sigma_rad, -theta, q4, q5, q6]
@@ -262,19 +278,39 @@ def leg_ik(
     """
     g = _GEOMETRY[side]
     rot_l = _EYE if rot is None else np.asarray(rot, dtype=float).tolist()
-    tx, ty, tz = (float(v) for v in ankle_pos_m)
+    out = np.array(_solve_passes(g, [float(v) for v in ankle_pos_m], rot_l, passes))
+    if clip_to_limits:
+        np.clip(out, g.lower_rad, g.upper_rad, out=out)
+    return out
+
+
+def leg_ik_floats(side: str, ankle_xyz_m, rot_rows, passes: int = 3) -> list[float]:
+    """``leg_ik`` (clipped to the joint stops) on plain floats, for a caller in a cycle's
+    inner loop: the ankle-roll anchor as three floats [m], the foot rotation as three rows of
+    three floats; the six angles [rad] come back as a list. Same arithmetic, same result."""
+    g = _GEOMETRY[side]
+    q = _solve_passes(g, ankle_xyz_m, rot_rows, passes)
+    return [clamp(a, lo, hi) for a, lo, hi in zip(q, g.lower_f, g.upper_f)]  # np.clip's
+
+
+def _solve_passes(g: LegGeometry, ankle_xyz_m, rot_rows, passes: int) -> list[float]:
+    """The unclipped angles after ``passes`` solves, each with the ankle-pitch anchor placed
+    by the last pass's roll angle."""
+    tx, ty, tz = ankle_xyz_m
+    (r00, r01, r02), (r10, r11, r12), (r20, r21, r22) = rot_rows
     ax, az = g.ankle_f[0], g.ankle_f[2]  # ankle offset: (0, 0, -5 mm) at the zero pose
     q = [0.0] * 6
     for _ in range(passes):
         # Ankle-pitch anchor = ankle-roll anchor - rot Rx(-q6) (ankle offset).
         c6, s6 = math.cos(q[5]), math.sin(q[5])
-        o = (ax, s6 * az, c6 * az)
-        ap = [t - (r[0] * o[0] + r[1] * o[1] + r[2] * o[2]) for t, r in zip((tx, ty, tz), rot_l)]
-        q = _solve(g, ap, rot_l)
-    out = np.array(q)
-    if clip_to_limits:
-        np.clip(out, g.lower_rad, g.upper_rad, out=out)
-    return out
+        ox, oy, oz = ax, s6 * az, c6 * az
+        ap = (
+            tx - (r00 * ox + r01 * oy + r02 * oz),
+            ty - (r10 * ox + r11 * oy + r12 * oz),
+            tz - (r20 * ox + r21 * oy + r22 * oz),
+        )
+        q = _solve(g, ap, rot_rows)
+    return q
 
 
 _EYE = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]

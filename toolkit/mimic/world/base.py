@@ -14,6 +14,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from mimic.errors import MimicError
+from mimic.floats import acos_domain
 from mimic.geometry import in_robot_frame, yaw_from_quat
 from mimic.robot.actuators import JointCommand
 from mimic.robot.model import RobotDescription
@@ -212,16 +213,16 @@ class World(ABC):
 
     def torso_up_z(self) -> float:
         """z component of the torso's up axis: 1 upright, 0 lying."""
-        w, x, y, _ = self.torso_quat_wxyz()
-        return float(1 - 2 * (x * x + y * y))
+        w, x, y, _ = self.torso_quat_wxyz().tolist()  # floats: checked every cycle
+        return 1 - 2 * (x * x + y * y)
 
     def torso_forward_z(self) -> float:
         """z component of the torso's forward axis: negative when it faces the ground."""
-        w, x, y, z = self.torso_quat_wxyz()
-        return float(2 * (x * z - w * y))
+        w, x, y, z = self.torso_quat_wxyz().tolist()
+        return 2 * (x * z - w * y)
 
     def _tilt_rad(self) -> float:
-        return math.acos(max(-1.0, min(1.0, self.torso_up_z())))
+        return math.acos(acos_domain(self.torso_up_z()))
 
     def fallen(self) -> bool:
         """Torso too low or tilted too far (the robot's ``FallThresholds``)."""

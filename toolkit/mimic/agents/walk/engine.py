@@ -33,16 +33,19 @@ import math
 import numpy as np
 
 from mimic.agents.base import Agent, JointCommand
-from mimic.agents.walk.gait import StepPlan, WalkConfig, feet_at, nominal_foot, plan_step
+from mimic.agents.walk.gait import StepPlan, WalkConfig, foot_rows_at, nominal_foot, plan_step
+from mimic.floats import clamp, clip_symmetric, mean_rows
 from mimic.geometry import torso_pitch_roll as _pitch_roll_left
 from mimic.robot.joints import joint_index
-from mimic.robot.leg_ik import leg_fk, leg_ik, leg_joint_indices
+from mimic.robot.leg_ik import leg_fk, leg_ik_floats, leg_joint_indices
 from mimic.robot.nao import nao
 from mimic.world.base import CYCLE_S, Observation
 
 __all__ = ["WalkEngine", "torso_pitch_roll"]
 
 _LEGS = (leg_joint_indices("left"), leg_joint_indices("right"))
+# The same indices as plain ints, for the per-joint feedback.
+_LEG_JOINTS = tuple(tuple(int(i) for i in legs) for legs in _LEGS)
 _SIDES = ("left", "right")
 _SHOULDERS = (joint_index("left_shoulder_pitch"), joint_index("right_shoulder_pitch"))
 
@@ -59,16 +62,6 @@ def torso_pitch_roll(q_wxyz: np.ndarray) -> tuple[float, float]:
 
 def _wrap(a: float) -> float:
     return (a + math.pi) % (2 * math.pi) - math.pi
-
-
-def _rot_y(a: float) -> np.ndarray:
-    c, s = math.cos(a), math.sin(a)
-    return np.array([[c, 0, s], [0, 1.0, 0], [-s, 0, c]])
-
-
-def _rot_z(a: float) -> np.ndarray:
-    c, s = math.cos(a), math.sin(a)
-    return np.array([[c, -s, 0], [s, c, 0], [0, 0, 1.0]])
 
 
 class WalkEngine(Agent):
@@ -157,6 +150,7 @@ class WalkEngine(Agent):
         self._step_cmd = np.zeros(3)
         self._step_base = np.zeros(3)
         self._pitch_state = (0.0, 0.0)
+        self._tilt = (0.0, 0.0)  # this cycle's torso (pitch, roll), set by act
         self._peak_tilt = 0.0
         self._blend_from = np.asarray(pose, dtype=float).copy()
         self._blend_t = 0.0
@@ -184,7 +178,7 @@ class WalkEngine(Agent):
         if state == "halting":
             self._halt_from_walk = self._state_before == "walking"
             if self._halt_from_walk:
-                self._halt_hold = self._walk_pose(self._plan.end, self._lean())
+                self._halt_hold = self._walk_pose(self._plan.end.tolist(), self._lean())
             else:
                 self._halt_hold = (
                     self._prev_ref if self._prev_ref is not None else self._blend_from
@@ -193,9 +187,11 @@ class WalkEngine(Agent):
     def act(self, obs: Observation) -> JointCommand:
         cfg = self.config
         self._update_heading(obs)
-        pitch, roll = torso_pitch_roll(obs.torso_quat_wxyz)
-        self._pitch_state = (pitch - self._lean(), float(obs.gyro_rad_s[1]))
-        self._peak_tilt = max(self._peak_tilt, abs(pitch - self._lean()), abs(roll))
+        # This cycle's torso tilt, read once (the feedback uses it too).
+        pitch, roll = self._tilt = torso_pitch_roll(obs.torso_quat_wxyz)
+        lean = self._lean()
+        self._pitch_state = (pitch - lean, float(obs.gyro_rad_s[1]))
+        self._peak_tilt = max(self._peak_tilt, abs(pitch - lean), abs(roll))
         # References are planned for the end of this cycle: the proportional term closes the
         # gap to them, the feed-forward term adds the plan's own speed over the cycle.
         nominal, ref = self._reference(obs)
@@ -204,12 +200,8 @@ class WalkEngine(Agent):
         if self._prev_nominal is not None:
             planned = nominal - self._prev_nominal
             feedback = (ref - nominal) - (self._prev_ref - self._prev_nominal)
-            speeds = np.clip(
-                speeds
-                + (cfg.feedforward * planned + cfg.feedback_feedforward * feedback) / CYCLE_S,
-                -self._servos.max_speed_rad_s,
-                self._servos.max_speed_rad_s,
-            )
+            ahead = (cfg.feedforward * planned + cfg.feedback_feedforward * feedback) / CYCLE_S
+            speeds = clip_symmetric(speeds + ahead, self._servos.max_speed_rad_s)
         self._prev_nominal = nominal
         self._prev_ref = ref
         self.reference_rad = ref
@@ -224,7 +216,7 @@ class WalkEngine(Agent):
         # heading averaged over the last gait period (two steps).
         self._yaw_history.append((math.cos(yaw), math.sin(yaw)))
         del self._yaw_history[: -2 * cfg.step_cycles]
-        c, s = np.mean(self._yaw_history, axis=0)
+        c, s = mean_rows(self._yaw_history)
         self._mean_yaw_rad = math.atan2(s, c) if cfg.smooth_heading else yaw
         if self._state != "walking":
             self._heading_rad = yaw
@@ -232,68 +224,65 @@ class WalkEngine(Agent):
             self._pos_history = []
             self._base_history = []
             return
-        self._pos_history.append((float(obs.torso_pos_m[0]), float(obs.torso_pos_m[1])))
+        pos = obs.torso_pos_m.tolist()
+        self._pos_history.append((pos[0], pos[1]))
         del self._pos_history[: -(2 * cfg.step_cycles + 1)]
+        vx, vy, yaw_rate = self._velocity.tolist()
         # Anti-windup: when the turn lags the command, the desired heading waits for it. Only
         # the command's own advance waits: a heading knocked away (a slipping foot, a rocking
         # step) is not given up, else every such knock would stay in the walked direction.
         # The lead allowed grows with the commanded rate: a slow turn asked for by an outer
         # loop (go-to-pose) must not run far ahead of the torso, or the two loops ring.
-        lead = min(cfg.max_heading_error_rad, abs(self._velocity[2]) * cfg.heading_lead_s)
-        ahead = _wrap(self._heading_rad + self._velocity[2] * CYCLE_S - self._mean_yaw_rad)
+        lead = min(cfg.max_heading_error_rad, abs(yaw_rate) * cfg.heading_lead_s)
+        ahead = _wrap(self._heading_rad + yaw_rate * CYCLE_S - self._mean_yaw_rad)
         if abs(ahead) <= lead or abs(ahead) < abs(_wrap(self._heading_rad - self._mean_yaw_rad)):
-            self._heading_rad = _wrap(self._heading_rad + self._velocity[2] * CYCLE_S)
+            self._heading_rad = _wrap(self._heading_rad + yaw_rate * CYCLE_S)
         self._aim_rad = self._heading_rad
-        if cfg.line_gain and self._velocity[1] == 0.0 and self._velocity[2] == 0.0:
-            pos = obs.torso_pos_m
+        if cfg.line_gain and vy == 0.0 and yaw_rate == 0.0:
             if self._line is None:
-                self._line = (float(pos[0]), float(pos[1]), self._heading_rad)
+                self._line = (pos[0], pos[1], self._heading_rad)
             x0, y0, h = self._line
             c, s = math.cos(h), math.sin(h)
             offset = -s * (pos[0] - x0) + c * (pos[1] - y0)
-            sign = 1.0 if self._velocity[0] >= 0 else -1.0
-            self._aim_rad = _wrap(
-                h
-                - sign
-                * float(
-                    np.clip(cfg.line_gain * offset, -cfg.max_line_aim_rad, cfg.max_line_aim_rad)
-                )
-            )
-        elif cfg.side_line_gain and self._velocity[1] != 0.0 and self._velocity[2] == 0.0:
+            sign = 1.0 if vx >= 0 else -1.0
+            aim = clamp(cfg.line_gain * offset, -cfg.max_line_aim_rad, cfg.max_line_aim_rad)
+            self._aim_rad = _wrap(h - sign * float(aim))
+        elif cfg.side_line_gain and vy != 0.0 and yaw_rate == 0.0:
             # Sideways or diagonal: the heading must stay (it is part of the command), so the
             # line is held with steps across it instead of by steering.
-            pos = obs.torso_pos_m
             if self._line is None:
-                travel = self._heading_rad + math.atan2(self._velocity[1], self._velocity[0])
-                self._line = (float(pos[0]), float(pos[1]), travel)
+                travel = self._heading_rad + math.atan2(vy, vx)
+                self._line = (pos[0], pos[1], travel)
             x0, y0, h = self._line
             offset = -math.sin(h) * (pos[0] - x0) + math.cos(h) * (pos[1] - y0)
-            back = float(
-                np.clip(
-                    cfg.side_line_gain * offset, -cfg.max_side_line_step_m, cfg.max_side_line_step_m
-                )
-            )
+            most = cfg.max_side_line_step_m
+            back = float(clamp(cfg.side_line_gain * offset, -most, most))
             across = h + math.pi / 2 - self._mean_yaw_rad  # the line's left, robot frame
             self._line_step = -back * np.array([math.cos(across), math.sin(across)])
         else:
             self._line = None
-        if self._line is None or self._velocity[1] == 0.0:
+        if self._line is None or vy == 0.0:
             self._line_step = np.zeros(2)
 
     # --- internals ------------------------------------------------------------------------
-    def _walk_pose(self, feet: np.ndarray, lean_rad: float) -> np.ndarray:
-        """(N,) joint angles putting the feet (2, 4) of the walk frame under a leaning torso."""
+    def _walk_pose(self, feet: list[list[float]], lean_rad: float) -> np.ndarray:
+        """(N,) joint angles putting the feet (left, right: x, y, z, yaw) of the walk frame
+        under a leaning torso."""
         q = self._stand.copy()
-        tilt = _rot_y(lean_rad).T
+        c, s = math.cos(lean_rad), math.sin(lean_rad)
         for side in (0, 1):
             x, y, z, yaw = feet[side]
-            rot = tilt @ _rot_z(yaw)
-            q[_LEGS[side]] = leg_ik(_SIDES[side], tilt @ np.array([x, y, z]), rot, passes=2)
+            # Into the torso frame: tilt = Ry(lean)^T onto the foot position and onto the
+            # foot rotation Rz(yaw), written out (each entry is the one non-zero product).
+            cz, sz = math.cos(yaw), math.sin(yaw)
+            ankle = (c * x - s * z, y, s * x + c * z)
+            rot = ((c * cz, c * -sz, -s), (sz, cz, 0.0), (s * cz, s * -sz, c))
+            q[_LEGS[side]] = leg_ik_floats(_SIDES[side], ankle, rot, passes=2)
         swing = self.config.arm_swing_rad_per_m
         if swing:
             # The arm goes with the opposite leg, cancelling part of its yaw moment.
-            q[_SHOULDERS[0]] += swing * (feet[1, 0] - self.config.ankle_x_m)
-            q[_SHOULDERS[1]] += swing * (feet[0, 0] - self.config.ankle_x_m)
+            q[_SHOULDERS[0]] += swing * (feet[1][0] - self.config.ankle_x_m)
+            q[_SHOULDERS[1]] += swing * (feet[0][0] - self.config.ankle_x_m)
         return q
 
     def _lean(self) -> float:
@@ -362,7 +351,7 @@ class WalkEngine(Agent):
     def _odometry_weight(self) -> float:
         """1 for short forward steps, fading to 0 at ``odometry_fade_step_m``."""
         fade = self.config.odometry_fade_step_m
-        return float(np.clip(1.0 - abs(self._step_base[0]) / fade, 0.0, 1.0)) if fade else 1.0
+        return float(clamp(1.0 - abs(self._step_base[0]) / fade, 0.0, 1.0)) if fade else 1.0
 
     def _reference(self, obs: Observation) -> tuple[np.ndarray, np.ndarray]:
         """(nominal, reference) joint angles for the end of this cycle, (N,) each [rad]."""
@@ -376,7 +365,7 @@ class WalkEngine(Agent):
             self._blend_t += CYCLE_S
             a = min(1.0, self._blend_t / cfg.blend_s)
             a = 0.5 * (1 - math.cos(math.pi * a))
-            target = self._walk_pose(self._plan.start, self._lean())
+            target = self._walk_pose(self._plan.start.tolist(), self._lean())
             ref = (1 - a) * self._blend_from + a * target
             if self._blend_t >= cfg.blend_s - 1e-9:
                 self._begin("walking")
@@ -393,14 +382,14 @@ class WalkEngine(Agent):
             self._start_step()
             self._cycle_in_step = 1
         phase = self._cycle_in_step / cfg.step_cycles
-        feet = feet_at(cfg, self._plan, phase)
+        feet = foot_rows_at(cfg, self._plan, phase)
         if cfg.yaw_hold_gain:
-            err = float(np.clip(_wrap(self._yaw_rad - self._aim_rad), -0.3, 0.3))
-            feet[self._plan.support, 3] += cfg.yaw_hold_gain * err
+            err = float(clamp(_wrap(self._yaw_rad - self._aim_rad), -0.3, 0.3))
+            feet[self._plan.support][3] += cfg.yaw_hold_gain * err
         nominal = self._walk_pose(feet, self._lean())
         if self._prev_nominal is not None and cfg.max_reference_speed_rad_s:
             nominal = self._rate_limited(nominal)
-        return nominal, self._feedback(nominal.copy(), obs)
+        return nominal, self._feedback(nominal, obs)
 
     def _halt_reference(self, obs: Observation) -> tuple[np.ndarray, np.ndarray]:
         """Halting: after the last step, hold the walk stance with both feet down for
@@ -413,7 +402,7 @@ class WalkEngine(Agent):
         a = min(1.0, max(0.0, self._blend_t - settle) / cfg.blend_s)
         a = 0.5 * (1 - math.cos(math.pi * a))
         nominal = (1 - a) * hold + a * self._stand
-        ref = nominal + (1 - a) * (self._feedback(nominal.copy(), obs, both_support=True) - nominal)
+        ref = nominal + (1 - a) * (self._feedback(nominal, obs, both_support=True) - nominal)
         if self._blend_t >= settle + cfg.blend_s - 1e-9:
             self._begin("standing")
         return nominal, ref
@@ -423,7 +412,7 @@ class WalkEngine(Agent):
         joint: the servos cannot follow faster, and a reachable plan keeps the feed-forward
         honest (the swing leg then lifts and swings as fast as its joints can go)."""
         step = self.config.max_reference_speed_rad_s * CYCLE_S
-        return self._prev_nominal + np.clip(nominal - self._prev_nominal, -step, step)
+        return self._prev_nominal + clip_symmetric(nominal - self._prev_nominal, step)
 
     def _at_rest(self) -> bool:
         """The ramped command is zero and the last step ended near the nominal stance."""
@@ -446,17 +435,18 @@ class WalkEngine(Agent):
         self._plan = plan_step(self.config, support, end, self._step_cmd)
 
     def _feedback(
-        self, ref: np.ndarray, obs: Observation, both_support: bool = False
+        self, nominal: np.ndarray, obs: Observation, both_support: bool = False
     ) -> np.ndarray:
-        """``ref`` plus IMU feedback (in place): torso tilt onto both hips and, as foot
-        placement, onto the swing hip; torso tilt onto the support ankle, gyro rates onto both
-        ankles."""
+        """``nominal`` plus IMU feedback (a new array): torso tilt (this cycle's, read by
+        ``act``) onto both hips and, as foot placement, onto the swing hip; torso tilt onto
+        the support ankle, gyro rates onto both ankles."""
         cfg = self.config
-        gx, gy, _ = obs.gyro_rad_s
-        pitch, roll = torso_pitch_roll(obs.torso_quat_wxyz)
+        ref = nominal.tolist()  # joint by joint: plain floats
+        gx, gy, _ = obs.gyro_rad_s.tolist()
+        pitch, roll = self._tilt
         pitch -= self._lean()
         for side in (0, 1):
-            legs = _LEGS[side]
+            legs = _LEG_JOINTS[side]
             ref[legs[4]] += cfg.gyro_pitch_gain * gy
             ref[legs[5]] += cfg.gyro_roll_gain * gx
             ref[legs[2]] += cfg.tilt_pitch_gain * pitch
@@ -467,4 +457,4 @@ class WalkEngine(Agent):
             else:
                 ref[legs[4]] += cfg.ankle_pitch_gain * pitch
                 ref[legs[5]] += cfg.ankle_roll_gain * roll
-        return ref
+        return np.array(ref)

@@ -21,13 +21,15 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 
 from mimic.agents.walk.lipm import lateral_fraction, pendulum_rate_per_s, sagittal_fraction
+from mimic.floats import clamp
 from mimic.world.base import CYCLE_S
 
-__all__ = ["WalkConfig", "StepPlan", "nominal_foot", "plan_step", "feet_at"]
+__all__ = ["WalkConfig", "StepPlan", "nominal_foot", "plan_step", "feet_at", "foot_rows_at"]
 
 
 @dataclass(frozen=True)
@@ -156,12 +158,13 @@ class WalkConfig:
     # be now) instead of this cycle's (where they should be at its end).
     track_previous: bool = True
 
-    @property
+    # Worked out once per config (it is frozen): the walk reads them several times a cycle.
+    @cached_property
     def step_cycles(self) -> int:
         """Agent cycles per step."""
         return max(2, round(self.step_s / CYCLE_S))
 
-    @property
+    @cached_property
     def step_time_s(self) -> float:
         """Duration of one step as walked, in whole agent cycles [s]."""
         return self.step_cycles * CYCLE_S
@@ -198,18 +201,28 @@ def plan_step(cfg: WalkConfig, support: int, start: np.ndarray, command: np.ndar
 
 def feet_at(cfg: WalkConfig, plan: StepPlan, phase: float, sway_scale: float = 1.0) -> np.ndarray:
     """(2, 4) foot poses in the walk frame at ``phase`` in [0, 1] of the step."""
+    return np.array(foot_rows_at(cfg, plan, phase, sway_scale))
+
+
+def foot_rows_at(
+    cfg: WalkConfig, plan: StepPlan, phase: float, sway_scale: float = 1.0
+) -> list[list[float]]:
+    """``feet_at`` as two lists (left, right) of four floats: the walk engine's form, every
+    cycle, so worked out on plain floats."""
     k = pendulum_rate_per_s(cfg.com_height_m)
-    phase = min(max(phase, 0.0), 1.0)
+    phase = clamp(phase, 0.0, 1.0)
     lipm = sagittal_fraction(phase, k, cfg.step_time_s) + 0.5
     support_f = cfg.lipm_blend * lipm + (1 - cfg.lipm_blend) * phase
     lift = cfg.lift_start_fraction
     swing = min(1.0, max(0.0, phase - lift) / max(cfg.swing_fraction - lift, 1e-6))
     swing_f = 0.5 * (1 - math.cos(math.pi * swing))
-    feet = np.empty((2, 4))
+    # Each foot moves from its start toward its end.
     sup, sw = plan.support, 1 - plan.support
-    feet[sup] = plan.start[sup] + support_f * (plan.end[sup] - plan.start[sup])
-    feet[sw] = plan.start[sw] + swing_f * (plan.end[sw] - plan.start[sw])
-    feet[sw, 2] += cfg.step_height_m * 0.5 * (1 - math.cos(2 * math.pi * swing))
+    start, end = plan.start.tolist(), plan.end.tolist()
+    feet = [[], []]
+    feet[sup] = [a + support_f * (b - a) for a, b in zip(start[sup], end[sup])]
+    feet[sw] = [a + swing_f * (b - a) for a, b in zip(start[sw], end[sw])]
+    feet[sw][2] += cfg.step_height_m * 0.5 * (1 - math.cos(2 * math.pi * swing))
     # Torso sways toward the support foot: both feet shift the other way in the walk frame.
     toward = 1.0 if sup == 0 else -1.0
     sway = (
@@ -218,5 +231,6 @@ def feet_at(cfg: WalkConfig, plan: StepPlan, phase: float, sway_scale: float = 1
         * cfg.ankle_half_width_m
         * lateral_fraction(phase, k, cfg.step_time_s)
     )
-    feet[:, 1] -= toward * sway
+    for foot in feet:
+        foot[1] -= toward * sway
     return feet

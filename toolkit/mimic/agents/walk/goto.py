@@ -29,6 +29,7 @@ import numpy as np
 
 from mimic.agents.base import Agent, JointCommand
 from mimic.agents.walk.engine import WalkEngine
+from mimic.floats import clamp, clip_symmetric, mean_rows
 from mimic.world.base import CYCLE_S, Observation
 
 __all__ = ["GoToConfig", "GoToPose", "pose_behind_ball", "wrap_angle"]
@@ -154,20 +155,15 @@ class GoToPose(Agent):
         c, s = math.cos(yaw), math.sin(yaw)
         return c * dx + s * dy, -s * dx + c * dy, wrap_angle(heading - yaw)
 
-    def _smoothed_errors(self, obs: Observation) -> tuple[float, float, float]:
-        """``errors`` of the torso pose averaged over the last gait period: the torso sways
-        and yaws with every step, and steering on that swing would feed it."""
-        self._history.append(
-            (
-                float(obs.torso_pos_m[0]),
-                float(obs.torso_pos_m[1]),
-                math.cos(obs.torso_yaw_rad),
-                math.sin(obs.torso_yaw_rad),
-            )
-        )
+    def _smoothed_errors(self, obs: Observation, yaw: float) -> tuple[float, float, float]:
+        """``errors`` of the torso pose (heading ``yaw`` [rad]) averaged over the last gait
+        period: the torso sways and yaws with every step, and steering on that swing would
+        feed it."""
+        x, y = obs.torso_pos_m[:2].tolist()
+        self._history.append((x, y, math.cos(yaw), math.sin(yaw)))
         n = max(1, round(self.engine.period_s / CYCLE_S))
         del self._history[:-n]
-        px, py, c, s = np.mean(self._history, axis=0)
+        px, py, c, s = mean_rows(self._history)
         return self._errors(px, py, math.atan2(s, c))
 
     def reset(self, obs: Observation) -> None:
@@ -185,67 +181,75 @@ class GoToPose(Agent):
         self.done = self._arrived
         return speeds
 
-    def _ball_waypoint(self, obs: Observation) -> tuple[float, float] | None:
-        """Waypoint (forward, left) [m] in the robot frame that leads around the ball to a
-        staging point behind it, or None once the robot is in the approach lane (or the ball
-        is not near the target)."""
+    def _ball_waypoint(self, obs: Observation, yaw: float) -> tuple[float, float] | None:
+        """Waypoint (forward, left) [m] in the robot frame (torso heading ``yaw`` [rad]) that
+        leads around the ball to a staging point behind it, or None once the robot is in the
+        approach lane (or the ball is not near the target)."""
         cfg = self.config
         x, y, heading = self._target
-        bx, by = obs.ball_pos_m[0] - x, obs.ball_pos_m[1] - y
+        ball_x, ball_y = obs.ball_pos_m[:2].tolist()
+        torso_x, torso_y = obs.torso_pos_m[:2].tolist()
+        bx, by = ball_x - x, ball_y - y
         if not cfg.avoid_ball or math.hypot(bx, by) > cfg.ball_near_target_m:
             return None
         # Target frame: x along the final heading, origin at the target.
         c, s = math.cos(heading), math.sin(heading)
-        ball = np.array([c * bx + s * by, -s * bx + c * by])
-        rx, ry = obs.torso_pos_m[0] - x, obs.torso_pos_m[1] - y
-        robot = np.array([c * rx + s * ry, -s * rx + c * ry])
+        ball_fwd, ball_left = c * bx + s * by, -s * bx + c * by
+        rx, ry = torso_x - x, torso_y - y
+        robot_fwd, robot_left = c * rx + s * ry, -s * rx + c * ry
         lane = cfg.approach_lane_m
         if self._approaching:
-            self._approaching = abs(robot[1]) < 2 * lane and robot[0] < ball[0] - 0.1
+            self._approaching = abs(robot_left) < 2 * lane and robot_fwd < ball_fwd - 0.1
         else:
-            aligned = abs(wrap_angle(heading - obs.torso_yaw_rad)) < cfg.approach_heading_rad
-            self._approaching = (abs(robot[1]) < lane and robot[0] < -lane and aligned) or float(
-                np.hypot(*robot)
+            aligned = abs(wrap_angle(heading - yaw)) < cfg.approach_heading_rad
+            self._approaching = (abs(robot_left) < lane and robot_fwd < -lane and aligned) or float(
+                np.hypot(robot_fwd, robot_left)
             ) < cfg.tolerance_m
         if self._approaching:
             return None
-        stage = np.array([-cfg.ball_clearance_m, 0.0])
-        way = stage
-        away = robot - ball
-        reach = float(np.hypot(*away))
+        stage_fwd, stage_left = -cfg.ball_clearance_m, 0.0
+        way_fwd, way_left = stage_fwd, stage_left
+        away_fwd, away_left = robot_fwd - ball_fwd, robot_left - ball_left
+        reach = float(np.hypot(away_fwd, away_left))
         if reach < cfg.ball_inner_m:
             # Too close to the ball anywhere but the lane: back straight away from it first.
-            way = ball + away / max(reach, 1e-9) * (cfg.ball_clearance_m + 0.05)
-        elif _segment_distance(ball, robot, stage) < cfg.ball_clearance_m:
+            back_m = cfg.ball_clearance_m + 0.05
+            way_fwd = ball_fwd + away_fwd / max(reach, 1e-9) * back_m
+            way_left = ball_left + away_left / max(reach, 1e-9) * back_m
+        elif (
+            _segment_distance(
+                (ball_fwd, ball_left), (robot_fwd, robot_left), (stage_fwd, stage_left)
+            )
+            < cfg.ball_clearance_m
+        ):
             # The way to the staging point passes the ball: orbit it at the clearance, one
             # short chord at a time, on the side that reaches the staging point sooner.
-            here = math.atan2(away[1], away[0])
-            there = math.atan2(stage[1] - ball[1], stage[0] - ball[0])
+            here = math.atan2(away_left, away_fwd)
+            there = math.atan2(stage_left - ball_left, stage_fwd - ball_fwd)
             turn = wrap_angle(there - here)
             if abs(abs(turn) - math.pi) < 0.3:  # straight opposite: pass on the robot's side
-                turn = math.copysign(abs(turn), away[1] if away[1] else 1.0)
+                turn = math.copysign(abs(turn), away_left if away_left else 1.0)
             angle = here + math.copysign(min(abs(turn), cfg.ball_orbit_step_rad), turn)
             radius = max(cfg.ball_clearance_m, min(reach, 1.5 * cfg.ball_clearance_m))
-            way = ball + radius * np.array([math.cos(angle), math.sin(angle)])
+            way_fwd = ball_fwd + radius * math.cos(angle)
+            way_left = ball_left + radius * math.sin(angle)
         # Back to the field frame, then into the robot frame.
-        wx, wy = c * way[0] - s * way[1] + x, s * way[0] + c * way[1] + y
-        yaw = obs.torso_yaw_rad
-        dx, dy = wx - obs.torso_pos_m[0], wy - obs.torso_pos_m[1]
+        wx, wy = c * way_fwd - s * way_left + x, s * way_fwd + c * way_left + y
+        dx, dy = wx - torso_x, wy - torso_y
         cy, sy = math.cos(yaw), math.sin(yaw)
         return cy * dx + sy * dy, -sy * dx + cy * dy
 
     def _steer(self, obs: Observation) -> None:
         cfg = self.config
+        yaw = obs.torso_yaw_rad
         if self.engine.state == "standing":
             self._history = []  # standing still: the pose is exact
-        fx, fy, dh = self._smoothed_errors(obs)
+        fx, fy, dh = self._smoothed_errors(obs, yaw)
         # Next to the ball every extra correction risks touching it: settle for a little less.
         loose = 1.0
-        near_ball = (
-            cfg.avoid_ball
-            and float(np.hypot(*(obs.ball_pos_m[:2] - obs.torso_pos_m[:2])))
-            < cfg.ball_slow_radius_m
-        )
+        (bx, by), (tx, ty) = obs.ball_pos_m[:2].tolist(), obs.torso_pos_m[:2].tolist()
+        ball_m = float(np.hypot(bx - tx, by - ty))
+        near_ball = cfg.avoid_ball and ball_m < cfg.ball_slow_radius_m
         if near_ball:
             loose = cfg.near_ball_tolerance_scale
         elif self.engine.state != "standing":
@@ -273,7 +277,7 @@ class GoToPose(Agent):
             self.engine.stop()
             self._stopping = True
             return
-        way = self._ball_waypoint(obs)
+        way = self._ball_waypoint(obs, yaw)
         if way is not None:
             fx, fy = way  # head for the waypoint; on arrival there, the next one takes over
             dist = math.hypot(fx, fy)
@@ -288,17 +292,11 @@ class GoToPose(Agent):
             # Near: face the final heading and move sideways / forward onto the point.
             # Gentler near the target: the torso's yaw swings with every step, and a fast
             # heading loop on top of the walk's own heading hold rings.
-            yaw_rate = float(
-                np.clip(
-                    cfg.near_heading_gain_per_s * dh,
-                    -cfg.near_max_yaw_rate_rad_s,
-                    cfg.near_max_yaw_rate_rad_s,
-                )
-            )
+            most = cfg.near_max_yaw_rate_rad_s
+            yaw_rate = float(clamp(cfg.near_heading_gain_per_s * dh, -most, most))
             if self.engine.state == "walking" and way is None and dist < cfg.integral_radius_m:
-                self._integral = np.clip(
+                self._integral = clip_symmetric(
                     self._integral + cfg.integral_gain_per_s2 * CYCLE_S * np.array([fx, fy]),
-                    -cfg.max_integral_m_s,
                     cfg.max_integral_m_s,
                 )
             vx = cfg.position_gain_per_s * fx + self._integral[0]
@@ -309,30 +307,29 @@ class GoToPose(Agent):
             elif dist > cfg.stop_fraction * cfg.tolerance_m:
                 scale = max(1.0, low / max(math.hypot(vx, vy), 1e-9))
                 vx, vy = vx * scale, vy * scale
-        vx = float(np.clip(vx, -0.5 * cfg.max_vx_m_s, cfg.max_vx_m_s))
-        vy = float(np.clip(vy, -cfg.max_vy_m_s, cfg.max_vy_m_s))
+        vx = float(clamp(vx, -0.5 * cfg.max_vx_m_s, cfg.max_vx_m_s))
+        vy = float(clamp(vy, -cfg.max_vy_m_s, cfg.max_vy_m_s))
         if cfg.max_decel_m_s2:
             brake = math.sqrt(2 * cfg.max_decel_m_s2 * dist)
             scale = min(1.0, brake / max(math.hypot(vx, vy), 1e-9))
             vx, vy = vx * scale, vy * scale
         if cfg.avoid_ball and way is None:
             # Short steps near the ball: a long stride's swing foot would reach it.
-            near = float(np.hypot(*(obs.ball_pos_m[:2] - obs.torso_pos_m[:2])))
-            if near < cfg.ball_slow_radius_m:
+            if ball_m < cfg.ball_slow_radius_m:
                 scale = min(1.0, cfg.ball_approach_speed_m_s / max(math.hypot(vx, vy), 1e-9))
                 vx, vy = vx * scale, vy * scale
                 if cfg.ball_line_up_first and vx > 0.0:
                     # Line up first, then step in: sideways and turning steps next to the
                     # ball are the ones that reach it, so the forward part waits for them.
                     off = max(abs(fy) / cfg.tolerance_m, abs(dh) / cfg.tolerance_rad)
-                    vx *= float(np.clip(2.0 - off, 0.0, 1.0))
-        self.engine.set_velocity(
-            vx, vy, float(np.clip(yaw_rate, -cfg.max_yaw_rate_rad_s, cfg.max_yaw_rate_rad_s))
-        )
+                    vx *= float(clamp(2.0 - off, 0.0, 1.0))
+        most = cfg.max_yaw_rate_rad_s
+        self.engine.set_velocity(vx, vy, float(clamp(yaw_rate, -most, most)))
 
 
-def _segment_distance(point: np.ndarray, a: np.ndarray, b: np.ndarray) -> float:
-    """Distance [m] from ``point`` to the segment a-b (2-D)."""
+def _segment_distance(point, a, b) -> float:
+    """Distance [m] from ``point`` to the segment a-b (2-D, each a pair of floats)."""
+    point, a, b = np.array(point), np.array(a), np.array(b)
     ab = b - a
-    t = float(np.clip(np.dot(point - a, ab) / max(float(np.dot(ab, ab)), 1e-12), 0.0, 1.0))
+    t = float(clamp(np.dot(point - a, ab) / max(float(np.dot(ab, ab)), 1e-12), 0.0, 1.0))
     return float(np.hypot(*(a + t * ab - point)))
