@@ -158,15 +158,29 @@ class PoolExecutor(Executor):
         self.workers = workers
         self._pool = ProcessPoolExecutor(workers - 1, mp_context=mp.get_context("spawn"))
         self._inline: list[_Inline] = []  # submitted to this process, not yet run
+        self._spawned: list = []  # futures of calls given to the spawned processes
+        self._started = False  # a call was submitted (the first one runs here, at once)
         self._discarded: list = []
         for _ in range(workers - 1):  # start the processes now, ready when work comes
             self._pool.submit(_warm_up)
 
     def submit(self, fn: Callable, arg: Any) -> Any:
+        """The first call runs in this process (no wait for a spawned one); after that a
+        spawned process that has nothing to do gets the call, else this process if it has
+        nothing queued, else the pool's queue. Keeping the spawned processes busy first
+        matters: callers collect results in order, and this process runs its queued call
+        before it waits for a spawned one, so a call queued here while a spawned process
+        sits idle would leave that process idle for a whole episode."""
+        self._spawned = [f for f in self._spawned if not f.done()]
+        if self._started and len(self._spawned) < self.workers - 1:
+            self._spawned.append(self._pool.submit(fn, arg))
+            return self._spawned[-1]
+        self._started = True
         if not self._inline:
             self._inline.append(_Inline(fn, arg))
             return self._inline[-1]
-        return self._pool.submit(fn, arg)
+        self._spawned.append(self._pool.submit(fn, arg))
+        return self._spawned[-1]
 
     def _run_inline(self) -> None:
         while self._inline:
