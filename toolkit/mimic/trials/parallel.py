@@ -88,8 +88,10 @@ def run_episodes(
 
     With a budget, only as many episodes run at once as the budget still looks like it needs
     (from the mean duration so far, or ``expected_episode_s`` before the first one ends, e.g.
-    the previous variant's; with neither, the first episode runs alone): a short trial does
-    not pay for episodes it will throw away. Which episodes count does not depend on it.
+    the previous variant's; with neither, as many as the budget needs at least, from
+    ``config.episode_limit_s``, else one): a short trial does not pay for episodes it will
+    throw away. With several workers one more episode waits queued, so a worker that finishes
+    first starts the next at once. Which episodes count does not depend on any of this.
     """
     if (budget_s is None) == (episodes is None):
         raise ValueError("give exactly one of budget_s and episodes")
@@ -121,16 +123,21 @@ def run_episodes(
     job_iter = jobs()
     pending: deque = deque()
 
+    # One episode more than workers when there are several: results are collected in order, so
+    # a worker that finishes first would otherwise wait for the others before it gets the next.
+    slots = executor.workers + (1 if executor.workers > 1 else 0)
+
     def wanted() -> int:  # episodes worth having in flight
         if budget_s is None:
-            return executor.workers
+            return slots
         mean_s = batch.simulated_s / len(batch.episodes) if batch.episodes else expected_episode_s
-        if not mean_s:
-            return 1
+        if not mean_s:  # the longest an episode may run: the budget needs at least this many
+            longest_s = getattr(config, "episode_limit_s", None)
+            return max(1, min(slots, math.ceil(budget_s / longest_s))) if longest_s else 1
         left = math.ceil(max(0.0, budget_s - batch.simulated_s) / mean_s)
-        return max(1, min(executor.workers, left))
+        return max(1, min(slots, left))
 
-    def top_up() -> None:  # at most one episode per worker in flight
+    def top_up() -> None:  # at most one episode per worker in flight, and one queued
         while len(pending) < wanted():
             job = next(job_iter, None)
             if job is None:
