@@ -57,10 +57,11 @@ import mujoco
 import numpy as np
 from rcsssmj.games.soccer.server.soccer_command_parser import SoccerCommandParser
 
-from mimic.league.client import Perception, wire_targets_rad
+from mimic.league.client import wire_targets_rad
 from mimic.league.errors import LeagueError
 from mimic.league.monitor import place_ball_command, place_player_command
 from mimic.league.names import wire_names
+from mimic.league.perceived import PerceivedRobot
 from mimic.league.senses import Senses
 from mimic.league.simulation import LeagueSimulation
 from mimic.league.world import LeagueWorldConfig, lowest_point_m
@@ -77,6 +78,7 @@ from mimic.world.base import (
     posture_quat,
 )
 from mimic.world.league_field import league_field
+from mimic.world.physics_scales import NominalPhysics
 
 __all__ = ["LeagueInProcessWorld", "InProcessConfig"]
 
@@ -107,7 +109,7 @@ class _Joining:
     player_no: int
 
 
-class LeagueInProcessWorld(World):
+class LeagueInProcessWorld(PerceivedRobot, World):
     """One player in rcsssmj's soccer simulation, stepped in this process.
 
     Args:
@@ -168,8 +170,8 @@ class LeagueInProcessWorld(World):
         self._ball_command: object | None = None
         self._perception = self._senses.read(d, self._play_mode())
         self._origin_cycle = self._cycle()
-        # Friction and masses as built, kept when an episode first scales them.
-        self._nominal: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None
+        # Friction and masses as built: what ``scale_physics`` scales.
+        self._nominal = NominalPhysics.of(self._sim.mj_model)
 
     # --- lifecycle ------------------------------------------------------------------------
     @property
@@ -272,23 +274,7 @@ class LeagueInProcessWorld(World):
     can_disturb_physics = True
 
     def scale_physics(self, friction_scale: float, link_mass_scales: np.ndarray) -> None:
-        m = self._sim.mj_model
-        if self._nominal is None:
-            self._nominal = (
-                m.geom_friction[:, 0].copy(),
-                m.body_mass.copy(),
-                m.body_inertia.copy(),
-            )
-        friction, mass, inertia = self._nominal
-        scales = np.asarray(link_mass_scales, dtype=float)
-        if scales.shape != self._link_ids.shape:
-            raise ValueError(f"{len(self._link_ids)} link mass scales expected, got {scales.shape}")
-        m.geom_friction[:, 0] = friction * friction_scale
-        m.body_mass[:], m.body_inertia[:] = mass, inertia
-        m.body_mass[self._link_ids] = mass[self._link_ids] * scales
-        m.body_inertia[self._link_ids] = inertia[self._link_ids] * scales[:, None]
-        # Derived constants as if compiled so; worked out on scratch data (the game goes on).
-        mujoco.mj_setConst(m, mujoco.MjData(m))
+        self._nominal.apply(self._sim.mj_model, self._link_ids, friction_scale, link_mass_scales)
 
     def push_torso(self, force_n: np.ndarray) -> None:
         self._sim.mj_data.xfrc_applied[self._link_ids[0], :3] = force_n
@@ -340,32 +326,8 @@ class LeagueInProcessWorld(World):
         m.actuator_biasprm[self._vel_ids, 2] = -self._kd
         self._motors_set = True
 
-    def perception(self) -> Perception:
-        """The latest perception, as an agent on a server would receive it."""
-        return self._perception
-
     def observe(self) -> Observation:
-        p = self._perception
-        return Observation(
-            time_s=self.time_s,
-            joint_angles_rad=p.joint_angles_rad.copy(),
-            joint_speeds_rad_s=p.joint_speeds_rad_s.copy(),
-            gyro_rad_s=p.gyro_rad_s.copy(),
-            accelerometer_m_s2=p.accelerometer_m_s2.copy(),
-            torso_quat_wxyz=p.torso_quat_wxyz.copy(),
-            foot_forces_n=np.zeros(2),
-            torso_pos_m=p.torso_pos_m.copy(),
-            ball_pos_m=self.ball_pos_m(),
-        )
-
-    def joint_angles_rad(self) -> np.ndarray:
-        return self._perception.joint_angles_rad.copy()
-
-    def torso_pos_m(self) -> np.ndarray:
-        return self._perception.torso_pos_m.copy()
-
-    def torso_quat_wxyz(self) -> np.ndarray:
-        return self._perception.torso_quat_wxyz.copy()
+        return self._observation(self.time_s, self.ball_pos_m())
 
     def ball_pos_m(self) -> np.ndarray:
         """(3,) the ball's centre now [m] (where it will be put, while a placement waits)."""

@@ -38,10 +38,11 @@ import mujoco
 import numpy as np
 
 from mimic.geometry import quat_mul, rotate
-from mimic.league.client import AgentClient, Perception
+from mimic.league.client import AgentClient
 from mimic.league.decode import PlayerDecoder, PlayerSample
 from mimic.league.errors import LeagueError
 from mimic.league.monitor import MonitorClient
+from mimic.league.perceived import PerceivedRobot
 from mimic.league.protocol import parse_address
 from mimic.league.server import LeagueServer, ServerConfig
 from mimic.robot.actuators import JointCommand
@@ -82,7 +83,7 @@ class LeagueWorldConfig:
     command_settle_s: float = 0.02
 
 
-class LeagueWorld(World):
+class LeagueWorld(PerceivedRobot, World):
     """One player of a league server, seen by its own sensors and a monitor.
 
     Args:
@@ -261,32 +262,9 @@ class LeagueWorld(World):
         if self.monitor is not None:
             self.monitor.drain()  # keep the stream flowing (the server blocks on a full pipe)
 
-    def perception(self) -> Perception:
-        """The latest perception as the server sent it."""
-        return self._perception
-
     def observe(self) -> Observation:
-        p = self._perception
-        return Observation(
-            time_s=self.time_s,
-            joint_angles_rad=p.joint_angles_rad.copy(),
-            joint_speeds_rad_s=p.joint_speeds_rad_s.copy(),
-            gyro_rad_s=p.gyro_rad_s.copy(),
-            accelerometer_m_s2=p.accelerometer_m_s2.copy(),
-            torso_quat_wxyz=p.torso_quat_wxyz.copy(),
-            foot_forces_n=np.zeros(2),
-            torso_pos_m=p.torso_pos_m.copy(),
-            ball_pos_m=self.ball_pos_m() if self.monitor is not None else np.full(3, np.nan),
-        )
-
-    def joint_angles_rad(self) -> np.ndarray:
-        return self._perception.joint_angles_rad.copy()
-
-    def torso_pos_m(self) -> np.ndarray:
-        return self._perception.torso_pos_m.copy()
-
-    def torso_quat_wxyz(self) -> np.ndarray:
-        return self._perception.torso_quat_wxyz.copy()
+        ball = self.ball_pos_m() if self.monitor is not None else np.full(3, np.nan)
+        return self._observation(self.time_s, ball)
 
     def _synced_monitor(self, what: str) -> MonitorClient:
         """The monitor, with the frame of the current perception's cycle applied, or on a cycle

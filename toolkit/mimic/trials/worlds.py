@@ -45,6 +45,7 @@ __all__ = [
     "LEAGUE_WORLDS",
     "world_kind",
     "world_owns_physics",
+    "world_class",
     "open_world",
     "default_robot",
     "check_world",
@@ -77,10 +78,30 @@ def world_kind(name: str) -> str:
     return kind
 
 
+def world_class(kind: str) -> type[World]:
+    """The class of the world called ``kind`` (imported only when asked for)."""
+    kind = world_kind(kind)
+    if kind == LEAGUE:
+        from mimic.league.inprocess import LeagueInProcessWorld
+
+        return LeagueInProcessWorld
+    if kind == MUJOCO:
+        from mimic.world.mujoco_world import MujocoWorld
+
+        return MujocoWorld
+    if kind == LEAGUE_LIKE:
+        from mimic.world.league_like import LeagueLikeWorld
+
+        return LeagueLikeWorld
+    from mimic.league.world import LeagueWorld
+
+    return LeagueWorld
+
+
 def world_owns_physics(kind: str) -> bool:
     """Episodes in this world can push the robot and change friction and masses (the
-    physics runs in mimic's process)."""
-    return world_kind(kind) in (MUJOCO, LEAGUE_LIKE, LEAGUE)
+    physics runs in mimic's process: ``World.can_disturb_physics``)."""
+    return world_class(kind).can_disturb_physics
 
 
 def default_robot(kind: str) -> str:
@@ -120,20 +141,11 @@ def open_world(
     """
     kind = world_kind(kind)
     if kind == LEAGUE:
-        from mimic.league.inprocess import LeagueInProcessWorld
-
-        with LeagueInProcessWorld(robot) as world:
+        with world_class(kind)(robot) as world:
             yield world
         return
-    if kind == MUJOCO:
-        from mimic.world.mujoco_world import MujocoWorld
-
-        yield MujocoWorld(robot)
-        return
-    if kind == LEAGUE_LIKE:
-        from mimic.world.league_like import LeagueLikeWorld
-
-        yield LeagueLikeWorld(robot)
+    if kind in (MUJOCO, LEAGUE_LIKE):
+        yield world_class(kind)(robot)
         return
     from mimic.league.server import ServerConfig
     from mimic.league.world import LeagueWorld

@@ -14,6 +14,7 @@ from mimic.robot.model import RobotDescription
 from mimic.robot.registry import get_robot
 from mimic.world.base import CYCLE_S, BodyPoses, Observation, World, posture_quat
 from mimic.world.field import Field, field_for_robot
+from mimic.world.physics_scales import NominalPhysics
 from mimic.world.scene import FOOT_TOUCH_SENSORS, PhysicsConfig, build_model
 
 __all__ = ["MujocoWorld"]
@@ -83,8 +84,8 @@ class MujocoWorld(World):
             ]
         )
         self.cycle = 0
-        # Friction and masses as built, kept when an episode first scales them.
-        self._nominal: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None
+        # Friction and masses as built: what ``scale_physics`` scales.
+        self._nominal = NominalPhysics.of(self.model)
 
     # --- placing things -------------------------------------------------------------------
     def reset(self) -> None:
@@ -182,24 +183,7 @@ class MujocoWorld(World):
     can_disturb_physics = True
 
     def scale_physics(self, friction_scale: float, link_mass_scales: np.ndarray) -> None:
-        m = self.model
-        if self._nominal is None:
-            self._nominal = (
-                m.geom_friction[:, 0].copy(),
-                m.body_mass.copy(),
-                m.body_inertia.copy(),
-            )
-        friction, mass, inertia = self._nominal
-        scales = np.asarray(link_mass_scales, dtype=float)
-        if scales.shape != self._link_ids.shape:
-            raise ValueError(f"{len(self._link_ids)} link mass scales expected, got {scales.shape}")
-        m.geom_friction[:, 0] = friction * friction_scale
-        m.body_mass[:], m.body_inertia[:] = mass, inertia
-        m.body_mass[self._link_ids] = mass[self._link_ids] * scales
-        m.body_inertia[self._link_ids] = inertia[self._link_ids] * scales[:, None]
-        # Derived constants (subtree masses, the solver's inverse weights) as if compiled so,
-        # worked out on scratch data.
-        mujoco.mj_setConst(m, mujoco.MjData(m))
+        self._nominal.apply(self.model, self._link_ids, friction_scale, link_mass_scales)
 
     def push_torso(self, force_n: np.ndarray) -> None:
         self.data.xfrc_applied[self.torso_body_id, :3] = force_n

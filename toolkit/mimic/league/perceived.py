@@ -1,0 +1,47 @@
+"""The robot as a league player perceives it: what both league worlds read from the latest
+``Perception`` (the in-process one from MjData, the server's from its stream)."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from mimic.league.client import Perception
+from mimic.world.base import Observation
+
+__all__ = ["PerceivedRobot"]
+
+
+class PerceivedRobot:
+    """Mixin for a ``World`` that keeps its player's latest perception in ``_perception``.
+
+    The T1 has no foot touch sensors in the league, so an observation's foot forces are zero.
+    """
+
+    _perception: Perception
+
+    def perception(self) -> Perception:
+        """The latest perception, as an agent on a server receives it."""
+        return self._perception
+
+    def _observation(self, time_s: float, ball_pos_m: np.ndarray) -> Observation:
+        p = self._perception
+        return Observation(
+            time_s=time_s,
+            joint_angles_rad=p.joint_angles_rad.copy(),
+            joint_speeds_rad_s=p.joint_speeds_rad_s.copy(),
+            gyro_rad_s=p.gyro_rad_s.copy(),
+            accelerometer_m_s2=p.accelerometer_m_s2.copy(),
+            torso_quat_wxyz=p.torso_quat_wxyz.copy(),
+            foot_forces_n=np.zeros(2),
+            torso_pos_m=p.torso_pos_m.copy(),
+            ball_pos_m=ball_pos_m,
+        )
+
+    def joint_angles_rad(self) -> np.ndarray:
+        return self._perception.joint_angles_rad.copy()
+
+    def torso_pos_m(self) -> np.ndarray:
+        return self._perception.torso_pos_m.copy()
+
+    def torso_quat_wxyz(self) -> np.ndarray:
+        return self._perception.torso_quat_wxyz.copy()
