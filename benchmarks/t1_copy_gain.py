@@ -37,8 +37,8 @@ from mimic.learn.presets import get_preset
 from mimic.learn.train import TrainConfig, pd_compensated_targets, train_model
 from mimic.robot.registry import get_robot
 from mimic.trials.walk import WalkTrialConfig, walk_scene
-from mimic.trials.worlds import open_world
 from mimic.world.base import CYCLE_S
+from mimic.world.registry import open_world
 
 sys.path.insert(0, str(Path(__file__).parent))
 from kick_copies import TablePlayer  # noqa: E402

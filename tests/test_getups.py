@@ -228,7 +228,7 @@ def test_getup_trial_cli_refuses_an_agent_that_does_not_lie(tmp_path):
 
 def test_the_league_like_world_applies_each_command_a_cycle_late():
     from mimic.robot.actuators import JointCommand
-    from mimic.trials.worlds import default_robot, open_world
+    from mimic.world.registry import default_robot, open_world
 
     assert default_robot("league-like") == "t1"
     with open_world("league-like", "t1") as world:

@@ -32,7 +32,8 @@ from mimic.league.names import wire_names
 from mimic.league.world import LeagueWorld
 from mimic.robot.actuators import JointCommand
 from mimic.robot.registry import get_robot
-from mimic.trials.worlds import (
+from mimic.world.base import CYCLE_S
+from mimic.world.registry import (
     LEAGUE,
     LEAGUE_SERVER,
     check_world,
@@ -40,7 +41,6 @@ from mimic.trials.worlds import (
     open_world,
     world_kind,
 )
-from mimic.world.base import CYCLE_S
 
 T1 = get_robot("t1")
 

@@ -31,7 +31,7 @@ from mimic.improve.sim_fit import (
     sim_fit_world,
 )
 from mimic.robot.registry import get_robot
-from mimic.trials.worlds import LEAGUE_LIKE, MUJOCO
+from mimic.world.registry import LEAGUE_LIKE, MUJOCO
 from tests._cli_helpers import one_line_error
 
 runner = CliRunner()

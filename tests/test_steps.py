@@ -143,7 +143,7 @@ def test_the_policy_walk_steers_and_adapts_its_step_time():
     from mimic.agents.other_team_t1 import make_policy_walk
     from mimic.episode import Episode
     from mimic.trials.walk import WalkTrialConfig, walk_scene
-    from mimic.trials.worlds import open_world
+    from mimic.world.registry import open_world
 
     with open_world("mujoco", "t1") as world:
         walk_scene(WalkTrialConfig()).setup(world, np.random.default_rng(5))

@@ -90,7 +90,7 @@ def _trial_robot(robot: str | None, world: str, names: list[str]) -> str:
     """The trial's robot: ``--robot``, else the one robot its model variants were made for,
     else the world's default."""
     from mimic.agents.registry import BALANCE_SUFFIX
-    from mimic.trials.worlds import default_robot
+    from mimic.world.registry import default_robot
 
     if robot is not None:
         return robot
@@ -181,7 +181,7 @@ def _disturb(level: str | None, world: str) -> str:
     """``--disturb``, or the default: ``game`` where mimic steps the physics itself, ``none``
     on a league server (its physics is in another process)."""
     from mimic.episode.disturbance import DEFAULT_DISTURB, disturb_level
-    from mimic.trials.worlds import world_owns_physics
+    from mimic.world.registry import world_owns_physics
 
     if level is not None:
         disturb_level(level)  # an unknown level: one line before anything runs
@@ -399,7 +399,7 @@ def kick(
     kick again until a goal; repeat."""
     from mimic.trials.api import kick_trial
     from mimic.trials.kick import KickTrialConfig
-    from mimic.trials.worlds import world_kind
+    from mimic.world.registry import world_kind
 
     save = save_path(save, save_old)
     world = world_kind(world)
@@ -493,7 +493,7 @@ def walk(
     line, 15 m; the league: 10 m through the centre spot), repeated."""
     from mimic.trials.api import walk_trial
     from mimic.trials.walk import WalkTrialConfig
-    from mimic.trials.worlds import world_kind
+    from mimic.world.registry import world_kind
 
     save = save_path(save, save_old)
     if minutes is not None and runs is not None:
@@ -589,7 +589,7 @@ def getup(
     time to stand, repeated."""
     from mimic.trials.api import getup_trial
     from mimic.trials.getup import GetupTrialConfig
-    from mimic.trials.worlds import default_robot, world_kind
+    from mimic.world.registry import default_robot, world_kind
 
     world = world_kind(world)
     robot = robot or default_robot(world)

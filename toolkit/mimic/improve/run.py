@@ -112,7 +112,7 @@ def improve(
             or a robot that the world or the target does not take.
     """
     from mimic.agents.registry import agent_spec
-    from mimic.trials.worlds import check_world, default_robot, world_kind
+    from mimic.world.registry import check_world, default_robot, world_kind
 
     out = Path(out)
     obj = make_objective(objective, episodes) if isinstance(objective, str) else objective

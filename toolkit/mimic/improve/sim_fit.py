@@ -58,8 +58,8 @@ from mimic.learn.dataset import Dataset
 from mimic.model.motion_model import MotionModel
 from mimic.robot.registry import get_robot
 from mimic.trials.walk import WalkTrialConfig, run_walk_episode
-from mimic.trials.worlds import LEAGUE_LIKE, MUJOCO
 from mimic.world.base import Observation
+from mimic.world.registry import LEAGUE_LIKE, MUJOCO
 
 __all__ = [
     "SimFitConfig",

@@ -27,7 +27,7 @@ from mimic.trials.report import (
     write_summary,
 )
 from mimic.trials.walk import WalkTrialConfig, run_walk_episode
-from mimic.trials.worlds import MUJOCO, check_world, world_kind, world_owns_physics
+from mimic.world.registry import MUJOCO, check_world, world_kind, world_owns_physics
 
 __all__ = [
     "TrialResult",
@@ -267,7 +267,7 @@ def kick_trial(
 
     ``world``: where the episodes play (``mujoco``, ``league``, ``league-server`` or
     ``league-like``; None: ``config.world``); on ``league-server`` every episode hosts its own
-    server (``trials.worlds``).
+    server (``world.registry``).
 
     ``trace``: keep the first episode of each variant as a pose trace (``result.traces``).
     ``executor``: where episodes run (``trials.executors``: pool or Ray); default a pool of

@@ -23,8 +23,8 @@ from mimic.episode.disturbance import EpisodeDisturbances
 from mimic.episode.observers import Observer, UprightLog
 from mimic.episode.scene import SETTLE_S
 from mimic.errors import MimicError
-from mimic.trials.worlds import open_world, world_kind
 from mimic.world.base import CYCLE_S
+from mimic.world.registry import open_world, world_kind
 
 __all__ = ["GetupTrialConfig", "run_getup_episode", "getup_scene", "SIDES"]
 
@@ -51,7 +51,7 @@ class GetupTrialConfig:
     start_noise_joint_rad: float = math.radians(1)
     # Keep a pose trace of the episode for the Rerun replay.
     trace: bool = False
-    # Where episodes play (``trials.worlds``): ``mujoco`` (ours), ``league`` (RCSSServerMJ's
+    # Where episodes play (``world.registry``): ``mujoco`` (ours), ``league`` (RCSSServerMJ's
     # simulation in this process), ``league-server`` (a hosted server) or ``league-like``.
     world: str = "mujoco"
     # ``league-server`` only: the command that starts the server (None: ``python -m rcsssmj``).

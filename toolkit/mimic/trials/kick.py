@@ -1,7 +1,7 @@
 """The kick trial: ball at the centre spot, kick toward the goal, reach the ball, kick
 again, until a goal; then reset and repeat. One episode is one call of ``run_kick_episode``.
 
-The episode plays in the world ``config.world`` names (``trials.worlds``: ours or the league's
+The episode plays in the world ``config.world`` names (``world.registry``: ours or the league's
 server). The ball starts ``start_goal_distance_m`` before the opponent goal line of that world's
 field (15 m: the centre spot of the study's 30 m field). The robot reaches the ball
 (``config.reach``) by walking there with our walk engine (the NAO) or by being placed behind it
@@ -22,8 +22,8 @@ from mimic.agents.registry import AgentSpec
 from mimic.episode import Episode, PoseNoise, PoseTrace, Scene
 from mimic.episode.disturbance import EpisodeDisturbances
 from mimic.episode.scene import BALL_ASIDE_M, SETTLE_S
-from mimic.trials.worlds import MUJOCO, open_world, world_kind
 from mimic.world.base import World
+from mimic.world.registry import MUJOCO, open_world, world_kind
 
 __all__ = [
     "KickTrialConfig",
@@ -67,7 +67,7 @@ class KickTrialConfig:
     start_noise_joint_rad: float = math.radians(1)
     # Keep a pose trace of the episode (robot bodies and ball) for the Rerun replay.
     trace: bool = False
-    # Where episodes play (``trials.worlds``): ``mujoco`` (ours), ``league`` (RCSSServerMJ's
+    # Where episodes play (``world.registry``): ``mujoco`` (ours), ``league`` (RCSSServerMJ's
     # simulation in this process), ``league-server`` (a hosted server) or ``league-like``.
     world: str = MUJOCO
     # How the robot reaches the ball (``REACH_METHODS``); ``auto``: walk for the NAO in our

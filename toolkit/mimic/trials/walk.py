@@ -1,7 +1,7 @@
 """The walk trial: straight ahead from a standing start, repeated.
 
 In our world the course is the study's, from the own goal line to the centre line (15 m); in
-the league's (``config.world``, ``trials.worlds``) it is 10 m through the centre spot, from
+the league's (``config.world``, ``world.registry``) it is 10 m through the centre spot, from
 x = -5 m to x = 5 m of the league's field.
 """
 
@@ -16,8 +16,8 @@ from mimic.agents.registry import AgentSpec
 from mimic.episode import Episode, PoseNoise, PoseTrace, Scene
 from mimic.episode.disturbance import EpisodeDisturbances
 from mimic.episode.scene import SETTLE_S
-from mimic.trials.worlds import LEAGUE_WORLDS, MUJOCO, open_world, world_kind
 from mimic.world import field as F
+from mimic.world.registry import LEAGUE_WORLDS, MUJOCO, open_world, world_kind
 
 __all__ = ["WalkTrialConfig", "run_walk_episode", "walk_scene", "LEAGUE_COURSE_M"]
 
@@ -41,7 +41,7 @@ class WalkTrialConfig:
     start_noise_joint_rad: float = math.radians(0.5)
     # Keep a pose trace of the episode (robot bodies and ball) for the Rerun replay.
     trace: bool = False
-    # Where episodes play (``trials.worlds``): ``mujoco`` (ours), ``league`` (RCSSServerMJ's
+    # Where episodes play (``world.registry``): ``mujoco`` (ours), ``league`` (RCSSServerMJ's
     # simulation in this process), ``league-server`` (a hosted server) or ``league-like``.
     world: str = MUJOCO
     # ``league-server`` only: the command that starts the server (None: ``python -m rcsssmj``).

@@ -25,8 +25,8 @@ import numpy as np
 
 from mimic.agents.registry import agent_spec
 from mimic.episode import Episode, Scene
-from mimic.trials.worlds import LEAGUE, LEAGUE_SERVER, MUJOCO, open_world
 from mimic.world.base import CYCLE_S
+from mimic.world.registry import LEAGUE, LEAGUE_SERVER, MUJOCO, open_world
 
 __all__ = [
     "WorldSpeed",
