@@ -30,10 +30,10 @@ from mimic.learn.train import TrainConfig, train_model, training_dataset
 from mimic.model.model_file import save_model
 from mimic.recording.recorder import record
 from mimic.robot.registry import DEFAULT_ROBOT
+from mimic.tasks.walk import WalkTask, run_walk_episode
 from mimic.trials.api import walk_trial
 from mimic.trials.parallel import derive_seed
 from mimic.trials.report import with_ratios
-from mimic.trials.walk import run_walk_episode
 
 # Other team's walk: step length ramps up for ~3.5 s after the start; record after that.
 DEFAULT_WARMUP_S = 4.0
@@ -150,7 +150,8 @@ def main() -> None:
                 pl.DataFrame([old]),
             ],
             how="diagonal_relaxed",
-        )
+        ),
+        WalkTask.ratio_columns,
     )
     rows = pl.concat([result.rows, old_rows], how="diagonal_relaxed")
     summary = summary.join(_finished_y_error(rows), on="variant", how="left")

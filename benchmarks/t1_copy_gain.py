@@ -36,7 +36,7 @@ from mimic.learn.dataset import Dataset
 from mimic.learn.presets import get_preset
 from mimic.learn.train import TrainConfig, pd_compensated_targets, train_model
 from mimic.robot.registry import get_robot
-from mimic.trials.walk import WalkTrialConfig, walk_scene
+from mimic.tasks.walk import WalkTrialConfig, walk_scene
 from mimic.world.base import CYCLE_S
 from mimic.world.registry import open_world
 

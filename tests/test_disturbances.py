@@ -16,9 +16,9 @@ from mimic.episode.disturbance import (
 )
 from mimic.errors import MimicError
 from mimic.robot.actuators import JointCommand
+from mimic.stats import ratio_interval
+from mimic.tasks.walk import WalkTrialConfig, run_walk_episode
 from mimic.trials.api import check_trial, walk_trial
-from mimic.trials.stats import ratio_interval
-from mimic.trials.walk import WalkTrialConfig, run_walk_episode
 from mimic.world.mujoco_world import MujocoWorld
 
 # A short course (5 m of the study's 15 m) keeps each run a few seconds of wall time.
@@ -242,8 +242,8 @@ def test_the_league_world_in_process_takes_pushes_and_the_physics_spreads():
 
 
 def test_the_same_seed_gives_the_same_disturbed_table_whatever_the_workers(tmp_path):
+    from mimic.tasks.kick import KickTrialConfig
     from mimic.trials.api import kick_trial
-    from mimic.trials.kick import KickTrialConfig
 
     spec = AgentSpec("behaviour", "walk")
     one, two = tmp_path / "one.parquet", tmp_path / "two.parquet"
@@ -259,8 +259,8 @@ def test_the_same_seed_gives_the_same_disturbed_table_whatever_the_workers(tmp_p
 
 
 def test_a_getup_trial_is_disturbed_too():
+    from mimic.tasks.getup import GetupTrialConfig
     from mimic.trials.api import getup_trial
-    from mimic.trials.getup import GetupTrialConfig
 
     config = GetupTrialConfig(disturb="hard")
     result = getup_trial(

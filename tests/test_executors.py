@@ -6,6 +6,7 @@ import pytest
 
 from mimic.agents.registry import AgentSpec
 from mimic.errors import MimicError
+from mimic.tasks.walk import WalkTrialConfig
 from mimic.trials import api
 from mimic.trials.executors import (
     InlineExecutor,
@@ -15,7 +16,6 @@ from mimic.trials.executors import (
     resolve_workers,
 )
 from mimic.trials.parallel import run_episodes
-from mimic.trials.walk import WalkTrialConfig
 
 
 def fake_episode(spec, seed, config):
@@ -98,7 +98,7 @@ def test_ray_gives_the_results_of_the_process_pool(local_ray, tmp_path):
 
     from mimic.cli.main import app
     from mimic.improve import improve
-    from mimic.improve.objectives import WalkObjective
+    from mimic.tasks.walk import WalkObjective
 
     with make_executor(ray="local") as ray_ex, PoolExecutor(2) as pool:
         assert ray_ex.workers == 2

@@ -133,9 +133,9 @@ def test_improve_keeps_the_start_when_its_result_validates_worse(tmp_path, monke
     import polars as pl
 
     from mimic.improve import run as improve_run
-    from mimic.improve.objectives import OBJECTIVES, WalkObjective
+    from mimic.improve.objectives import OBJECTIVES
     from mimic.improve.targets import load_target
-    from mimic.trials.walk import WalkTrialConfig
+    from mimic.tasks.walk import WalkObjective, WalkTrialConfig
 
     tiny = WalkObjective(episodes=1, trial_config=WalkTrialConfig(timeout_s=3.0))
     monkeypatch.setitem(OBJECTIVES, "walk", lambda **kw: dataclasses.replace(tiny, **kw))
@@ -172,20 +172,21 @@ def test_improve_keeps_the_start_when_its_result_validates_worse(tmp_path, monke
 
 
 def _batch(*durations_s):
-    from mimic.trials.parallel import EpisodeBatch
+    from mimic.tasks.base import EpisodeBatch
 
-    batch = EpisodeBatch([], [])
+    batch = EpisodeBatch([], [], task="kick")
     for i, d in enumerate(durations_s):
         batch.add([{"distance_m": 1.0}], {"episode": i, "duration_s": d, "falls": 0, "kicks": 1})
     return batch
 
 
 def test_progress_never_shows_more_than_the_budget():
+    from mimic.tasks.kick import KickTask
     from mimic.trials.report import progress_status
 
-    line = progress_status(_batch(138.0), 2.0, None)  # one 2.3 min episode of a 2 min budget
+    line = progress_status(KickTask, _batch(138.0), 2.0, None)  # one 2.3 min episode of 2 min
     assert "2.3/2" not in line and "one episode" in line, line
-    assert progress_status(_batch(30.0, 30.0), 2.0, None).startswith("1.0/2 min")
+    assert progress_status(KickTask, _batch(30.0, 30.0), 2.0, None).startswith("1.0/2 min")
 
 
 def test_each_variants_clock_stops_when_it_ends_and_starts_when_it_starts():
@@ -203,8 +204,8 @@ def test_each_variants_clock_stops_when_it_ends_and_starts_when_it_starts():
 
 def test_a_trial_announces_each_variant_before_its_first_episode():
     from mimic.agents.registry import agent_spec
+    from mimic.tasks.walk import WalkTrialConfig
     from mimic.trials.api import walk_trial
-    from mimic.trials.walk import WalkTrialConfig
 
     calls = []
     walk_trial(

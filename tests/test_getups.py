@@ -246,7 +246,7 @@ def test_the_league_like_world_applies_each_command_a_cycle_late():
 
 def test_the_getup_objective_scores_standing_first_then_speed():
     from mimic.improve.objectives import make_objective
-    from mimic.trials.parallel import EpisodeBatch
+    from mimic.tasks.base import EpisodeBatch
 
     objective = make_objective("getup", episodes=2)
     fast, slow, down = (

@@ -16,7 +16,7 @@ from mimic.cli.main import app
 from mimic.errors import MimicError
 from mimic.improve import improve
 from mimic.improve.correction import corrected_model
-from mimic.improve.objectives import OBJECTIVES, KickObjective, WalkObjective
+from mimic.improve.objectives import OBJECTIVES
 from mimic.improve.search import MAX_SEARCH_EPISODE, CheckpointError
 from mimic.improve.targets import load_target
 from mimic.improve.validation import held_out_episodes
@@ -25,9 +25,9 @@ from mimic.model.motion_model import MotionModel
 from mimic.model.network import Layout, init_params
 from mimic.motion.files import load_motion, parse_motion
 from mimic.robot.nao import nao
-from mimic.trials.kick import KickTrialConfig
+from mimic.tasks.kick import KickObjective, KickTrialConfig
+from mimic.tasks.walk import WalkObjective, WalkTrialConfig
 from mimic.trials.parallel import derive_seed
-from mimic.trials.walk import WalkTrialConfig
 
 #: The NAO's joint count (the tiny model's outputs: these angles and the ended flag).
 N = nao().num_joints
@@ -184,7 +184,7 @@ def test_validation_plays_seeds_the_search_never_played(tmp_path):
 
 
 def test_kick_objective_scores_distance_times_success_minus_falls():
-    from mimic.trials.parallel import EpisodeBatch
+    from mimic.tasks.base import EpisodeBatch
 
     batch = EpisodeBatch([dict(distance_m=4.0), dict(distance_m=1.0)], [dict(falls=1)])
     assert KickObjective(fall_penalty_m=2.0).score(batch) == pytest.approx(2.0 - 1.0)

@@ -21,18 +21,18 @@ import pytest
 from _league_helpers import T1, mimic_command
 from typer.testing import CliRunner
 
-import mimic.trials.kick as kick_module
+import mimic.tasks.kick as kick_module
 from mimic.agents.registry import agent_spec
 from mimic.cli.main import app
 from mimic.errors import MimicError
 from mimic.league.server import LeagueServer
 from mimic.motion.files import list_motions
 from mimic.recording.reader import read_joint_table, read_recording, read_tf
+from mimic.tasks.kick import KickTrialConfig, run_kick_episode
+from mimic.tasks.walk import WalkTrialConfig, run_walk_episode
 from mimic.trials.api import check_variants
 from mimic.trials.executors import PoolExecutor
-from mimic.trials.kick import KickTrialConfig, run_kick_episode
 from mimic.trials.parallel import derive_seed, run_episodes
-from mimic.trials.walk import WalkTrialConfig, run_walk_episode
 
 runner = CliRunner()
 STANDIN_KICK = Path(__file__).with_name("league_standin_kick.txt")

@@ -19,7 +19,7 @@ from mimic.model.model_file import save_model
 from mimic.recording.recorder import record
 from mimic.robot.joints import joint_index
 from mimic.robot.nao import nao
-from mimic.trials.walk import WalkTrialConfig, run_walk_episode
+from mimic.tasks.walk import WalkTrialConfig, run_walk_episode
 from mimic.world.mujoco_world import MujocoWorld
 
 # The other team's walk reaches its steady speed (full step length) about 4 s after starting.

@@ -570,27 +570,29 @@ def test_paper_tables_fit_80_columns_with_every_name_and_number_whole():
 
 
 def test_walk_progress_counts_runs_not_kicks():
-    from mimic.trials.parallel import EpisodeBatch
+    from mimic.tasks.base import EpisodeBatch
+    from mimic.tasks.kick import KickTask
+    from mimic.tasks.walk import WalkTask
     from mimic.trials.report import progress_status
 
     walk = EpisodeBatch(
         [{"speed_m_s": 0.4}] * 4, [{"duration_s": 30.0, "falls": f} for f in (0, 1, 0, 0)]
     )
-    line = progress_status(walk, 30.0, None)
+    line = progress_status(WalkTask, walk, 30.0, None)
     assert "kicks" not in line and "goals" not in line
     assert "4 runs" in line and "1 fall" in line and "2.0/30 min" in line
     kick = EpisodeBatch([{}] * 7, [{"duration_s": 60.0, "kicks": 7, "goals": 1, "falls": 2}])
-    assert progress_status(kick, 30.0, None) == "1.0/30 min 7 kicks 1 goals 2 falls"
+    assert progress_status(KickTask, kick, 30.0, None) == "1.0/30 min 7 kicks 1 goals 2 falls"
 
 
 def test_progress_lines_fit_80_columns():
     from rich.console import Console
 
     from mimic.cli import trial as cli_trial
-    from mimic.trials.parallel import EpisodeBatch
+    from mimic.tasks.base import EpisodeBatch
 
     batch = EpisodeBatch(
-        [{}] * 140, [{"duration_s": 1798.0, "kicks": 140, "goals": 30, "falls": 12}]
+        [{}] * 140, [{"duration_s": 1798.0, "kicks": 140, "goals": 30, "falls": 12}], task="kick"
     )
     progress = cli_trial.TrialProgress(30.0, None)
     progress.live = True  # as on a terminal, without starting the live display
@@ -606,14 +608,15 @@ def test_progress_lines_fit_80_columns():
 
 def test_progress_without_a_terminal_prints_lines(monkeypatch):
     from mimic.cli import trial as cli_trial
-    from mimic.trials.parallel import EpisodeBatch
+    from mimic.tasks.base import EpisodeBatch
 
     monkeypatch.setattr(cli_trial, "PLAIN_PROGRESS_EVERY_S", 0.0)
     assert not cli_trial.console.is_terminal or pytest.skip("stdout is a terminal")
     with cli_trial.console.capture() as captured:
         with cli_trial.TrialProgress(None, 3) as progress:
             for k in range(1, 4):
-                progress("walk", EpisodeBatch([{}] * k, [{"duration_s": 20.0, "falls": 0}] * k))
+                runs = [{"duration_s": 20.0, "falls": 0}] * k
+                progress("walk", EpisodeBatch([{}] * k, runs, task="walk"))
     assert [ln for ln in captured.get().splitlines()] == [
         "walk: 1/3 runs 0 falls",
         "walk: 2/3 runs 0 falls",
@@ -622,7 +625,7 @@ def test_progress_without_a_terminal_prints_lines(monkeypatch):
 
 
 def test_wilson_and_t_intervals():
-    from mimic.trials.stats import mean_interval, t_quantile_95, wilson_interval
+    from mimic.stats import mean_interval, t_quantile_95, wilson_interval
 
     low, high = wilson_interval(60, 68)  # the README's 88.2 % of our kick
     assert (round(low, 4), round(high, 4)) == (0.7847, 0.9392)

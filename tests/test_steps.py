@@ -142,7 +142,7 @@ def test_the_policy_walk_steers_and_adapts_its_step_time():
     at most one cycle at a time (our world, the T1)."""
     from mimic.agents.other_team_t1 import make_policy_walk
     from mimic.episode import Episode
-    from mimic.trials.walk import WalkTrialConfig, walk_scene
+    from mimic.tasks.walk import WalkTrialConfig, walk_scene
     from mimic.world.registry import open_world
 
     with open_world("mujoco", "t1") as world:

@@ -105,7 +105,7 @@ def test_printed_table_keeps_every_number_whole_in_80_columns(kick_result):
 
 
 def test_kick_rows_flags_are_booleans_and_the_table_has_intervals(kick_result):
-    from mimic.trials.stats import mean_interval, wilson_interval
+    from mimic.stats import mean_interval, wilson_interval
 
     rows = kick_result.rows
     for flag in ("goal", "ball_out", "success", "fell"):

@@ -3,6 +3,7 @@ and `mimic bench scaling` (episodes per second: process pool against Ray)."""
 
 from __future__ import annotations
 
+from dataclasses import fields
 from enum import Enum
 from pathlib import Path
 from typing import Annotated
@@ -26,12 +27,6 @@ class ObjectiveName(str, Enum):
 class Pick(str, Enum):
     best = "best"
     mean = "mean"
-
-
-#: Held-out validation episodes when --validate is not given: ~60 kicks, 40 walks.
-_DEFAULT_VALIDATION = {"kick": 12, "walk": 40, "getup": 20}
-#: The objective's setting that ``--fall-penalty`` sets.
-_FALL_PENALTY = {"kick": "fall_penalty_m", "walk": "fall_penalty_m_s"}
 
 
 def _search_bar(budget: int):
@@ -175,6 +170,7 @@ def _improve(
     from mimic.files import check_outputs, spec_files
     from mimic.improve import improve
     from mimic.improve.objectives import make_objective
+    from mimic.tasks.registry import get_task
     from mimic.trials.executors import RAY_LOCAL
 
     if budget <= 0:
@@ -182,20 +178,21 @@ def _improve(
     options.seed(seed)
     check_outputs([out, save], force=force, inputs=[*spec_files(target), checkpoint])
     options.finite(sigma, "--sigma", above=0)
+    task = get_task(objective.value)
     settings = {}
     if fall_penalty is not None:
         options.finite(fall_penalty, "--fall-penalty", at_least=0)
-        if objective.value not in _FALL_PENALTY:
-            raise MimicError("--fall-penalty is a kick or walk rule; a get-up scores success")
-        settings[_FALL_PENALTY[objective.value]] = fall_penalty
+        if task.Objective.fall_penalty_setting is None:
+            raise MimicError(
+                f"--fall-penalty is a rule of objectives that count falls; {task.name} does not"
+            )
+        settings[task.Objective.fall_penalty_setting] = fall_penalty
     if success_m is not None:
-        if objective.value != "kick":
-            raise MimicError("--success-m is the kick objective's rule; drop it for a walk")
-        from mimic.trials.kick import KickTrialConfig
-
+        if "success_distance_m" not in {f.name for f in fields(task.Config)}:
+            raise MimicError(f"--success-m is the kick objective's rule; drop it for {task.name}")
         options.finite(success_m, "--success-m", at_least=0)
-        settings["trial_config"] = KickTrialConfig(success_distance_m=success_m)
-    n_validate = _DEFAULT_VALIDATION[objective.value] if validate is None else validate
+        settings["trial_config"] = task.Config(success_distance_m=success_m)
+    n_validate = task.validation_episodes if validate is None else validate
     bar, on_generation = _search_bar(budget)
     checks = TrialProgress(None, n_validate)  # the held-out episodes, as a trial shows them
 
@@ -249,7 +246,7 @@ def _improve(
             run.validation,
             f"validation: {n_validate} held-out episodes per variant, "
             f"seed {seed} ({run.validation_wall_s:.1f} s); {_world_text(run.validation)}",
-            getattr(run.objective.trial_config, "success_distance_m", None),
+            run.objective.trial_config,
         )
         for f in run.files:
             console.print(f"wrote {f}")

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import math
 import time
-from dataclasses import replace
+from dataclasses import asdict, replace
 from pathlib import Path
 from typing import Annotated
 
@@ -151,9 +151,10 @@ class TrialProgress:
                     console.print(f"{label}: {line}", highlight=False, soft_wrap=True)
 
     def __call__(self, label: str, batch) -> None:
+        from mimic.tasks.registry import get_task
         from mimic.trials.report import progress_status
 
-        status = progress_status(batch, self.minutes, self.runs)
+        status = progress_status(get_task(batch.task), batch, self.minutes, self.runs)
         self._last[label] = status
         if self.live:
             if not self._bar.live.is_started:
@@ -187,69 +188,6 @@ def _disturb(level: str | None, world: str) -> str:
         disturb_level(level)  # an unknown level: one line before anything runs
         return level
     return DEFAULT_DISTURB if world_owns_physics(world) else "none"
-
-
-#: Columns of the printed table (all columns go to the files), with short headers.
-_SHOWN = {
-    "kick": {
-        "variant": "variant",
-        "attempts": "kicks",
-        "successful": "ok",
-        "accuracy_pct": "acc %",
-        "mean_distance_m": "dist m",
-        "std_distance_m": "std m",
-        "goals": "goals",
-        "falls": "falls",
-        "stuck": "stuck",
-        "accuracy_pct_ratio": "acc ratio",
-        "mean_distance_m_ratio": "dist ratio",
-    },
-    "walk": {
-        "variant": "variant",
-        "runs": "runs",
-        "mean_speed_m_s": "speed m/s",
-        "std_speed_m_s": "std",
-        "mean_y_error_m": "Y err m",
-        "std_y_error_m": "std",
-        "falls": "falls",
-        "mean_speed_m_s_ratio": "speed ratio",
-    },
-    "getup": {
-        "variant": "variant",
-        "side": "side",
-        "runs": "runs",
-        "stood": "stood",
-        "success_pct": "stood %",
-        "mean_time_to_stand_s": "time s",
-        "std_time_to_stand_s": "std s",
-        "mean_time_to_stand_s_ratio": "time ratio",
-    },
-}
-#: Shown column -> (column whose 95 % interval goes under it, how: a range in % or +- half).
-_CI_SHOWN = {
-    "accuracy_pct": ("accuracy_pct", "range"),
-    "mean_distance_m": ("mean_distance_m", "half"),
-    "mean_speed_m_s": ("mean_speed_m_s", "half"),
-    "mean_y_error_m": ("mean_y_error_m", "half"),
-    "falls": ("fall_rate_pct", "range %"),
-    "success_pct": ("success_pct", "range"),
-    "mean_time_to_stand_s": ("mean_time_to_stand_s", "half"),
-    "mean_speed_m_s_ratio": ("mean_speed_m_s_ratio", "half"),
-    "mean_distance_m_ratio": ("mean_distance_m_ratio", "half"),
-    "accuracy_pct_ratio": ("accuracy_pct_ratio", "half"),
-}
-_LEGEND = {
-    "kick": "95% CI: 95 % confidence interval of the accuracy (Wilson) and of the mean distance "
-    "(t, +- half width). ok: kicks farther than {success_m:g} m. stuck: episodes that ended because "
-    "the robot could not reach the ball in time or could not line up with it. Ratios: "
-    "against the first variant, with their 95 % interval (delta method).",
-    "walk": "95% CI: 95 % confidence interval of the means (t, +- half width) and of the share "
-    "of runs that fell (Wilson). Ratios: against the first variant, with their 95 % interval "
-    "(delta method, runs paired by seed).",
-    "getup": "stood: runs upright at their end; time: from the get-up's start until the robot "
-    "stayed upright. 95% CI: of the share that stood (Wilson) and of the mean time (t, +- half "
-    "width). Ratios: against the first variant.",
-}
 
 
 def _ci_text(row: dict, column: str, how: str) -> str:
@@ -298,29 +236,32 @@ def _minutes_text(result, minutes: float | None) -> str:
     return f"{span} simulated min per variant ({minutes:g} asked)"
 
 
-def _print(result, title: str, success_m: float | None = None) -> None:
-    shown = {c: h for c, h in _SHOWN[result.kind].items() if c in result.summary.columns}
+def _print(result, title: str, config=None) -> None:
+    """The summary as the task shows it (``TrialTask.columns``), each mean and rate with its
+    95 % interval on a dim line below, then the task's legend (filled in from ``config``,
+    the trial's settings; None: the task's defaults) and the files written."""
+    task = result.task
+    shown = [c for c in task.columns if c.key in result.summary.columns]
     # Headers on two lines, no vertical rules, no edges: a whole kick table, confidence
     # intervals included, fits in 80 columns.
     table = Table(
         title=title, box=box.SIMPLE_HEAD, pad_edge=False, padding=(0, 1, 0, 0), show_edge=False
     )
-    for c, header in shown.items():
+    for c in shown:
         table.add_column(
-            header.replace(" ", "\n"),
-            justify="left" if c == "variant" else "right",
-            overflow="fold" if c == "variant" else "ellipsis",
-            no_wrap=c != "variant",
+            c.header.replace(" ", "\n"),
+            justify="left" if c.key == "variant" else "right",
+            overflow="fold" if c.key == "variant" else "ellipsis",
+            no_wrap=c.key != "variant",
         )
     for row in result.summary.iter_rows(named=True):
-        table.add_row(*[_number(c, row[c]) for c in shown])
-        ci = [_ci_text(row, *_CI_SHOWN[c]) if c in _CI_SHOWN else "" for c in shown]
+        table.add_row(*[_number(c.key, row[c.key]) for c in shown])
+        ci = [_ci_text(row, c.ci, c.ci_how) if c.ci else "" for c in shown]
         if any(ci):
             table.add_row(*(["  95% CI"] + ci[1:]), style="dim")
     console.print(table)
-    if success_m is None:
-        from mimic.trials.kick import SUCCESS_DISTANCE_M as success_m
-    console.print(_LEGEND[result.kind].format(success_m=success_m), style="dim", highlight=False)
+    legend = task.legend.format_map(asdict(task.Config() if config is None else config))
+    console.print(legend, style="dim", highlight=False)
     for f in result.files:
         console.print(f"wrote {f}", highlight=False)
 
@@ -343,7 +284,7 @@ def _dashboard(result, save: Path | None, rerun: bool, force: bool) -> None:
 
 
 def _check(
-    kind: str,
+    task: str,
     specs,
     out: Path | None,
     save: Path | None,
@@ -356,7 +297,7 @@ def _check(
     from mimic.files import check_outputs, spec_files
     from mimic.trials.api import check_trial, trial_files
 
-    check_trial(kind, specs, **trial_options)
+    check_trial(task, specs, **trial_options)
     check_outputs(
         [*trial_files(out), save],
         force=force,
@@ -397,8 +338,8 @@ def kick(
 ) -> None:
     """Kick trial: kick toward the goal, reach the ball (walk there, or be placed behind it),
     kick again until a goal; repeat."""
+    from mimic.tasks.kick import KickTrialConfig
     from mimic.trials.api import kick_trial
-    from mimic.trials.kick import KickTrialConfig
     from mimic.world.registry import world_kind
 
     save = save_path(save, save_old)
@@ -438,7 +379,7 @@ def kick(
     _print(
         result,
         f"kick trial, {_minutes_text(result, minutes)}, seed {seed}; {_world_text(result)}",
-        config.success_distance_m,
+        config,
     )
     _dashboard(result, save, rerun, force)
 
@@ -491,8 +432,8 @@ def walk(
 ) -> None:
     """Walk trial from a standing start, straight ahead (our world: own goal line to centre
     line, 15 m; the league: 10 m through the centre spot), repeated."""
+    from mimic.tasks.walk import WalkTrialConfig
     from mimic.trials.api import walk_trial
-    from mimic.trials.walk import WalkTrialConfig
     from mimic.world.registry import world_kind
 
     save = save_path(save, save_old)
@@ -587,8 +528,8 @@ def getup(
 ) -> None:
     """Get-up trial: the robot knocked down on its front or back gets up; success rate and
     time to stand, repeated."""
+    from mimic.tasks.getup import GetupTrialConfig
     from mimic.trials.api import getup_trial
-    from mimic.trials.getup import GetupTrialConfig
     from mimic.world.registry import default_robot, world_kind
 
     world = world_kind(world)

@@ -14,6 +14,7 @@ from mimic.improve.objectives import make_objective
 from mimic.improve.search import SearchConfig, SearchResult, default_population, search
 from mimic.improve.targets import Target, load_target
 from mimic.improve.validation import validate
+from mimic.tasks.registry import get_task
 from mimic.trials.api import TrialResult
 from mimic.trials.executors import Executor, make_executor
 from mimic.trials.report import write_summary
@@ -138,9 +139,9 @@ def improve(
     if validation_episodes < 0:
         raise MimicError(f"--validate must be >= 0, got {validation_episodes}")
     refs = [agent_spec(r, robot=target_robot) for r in references]
-    for spec in (tgt.baseline(), *refs):  # a kick objective needs kicks: fail before searching
-        if obj.name == "kick":
-            spec.ball_offset_m()
+    task = get_task(obj.name)
+    for spec in (tgt.baseline(), *refs):  # e.g. a kick objective needs kicks: fail before searching
+        task.check_variant(spec)
     checkpoint = checkpoint or default_checkpoint(out)
     pop = population or default_population(tgt.space.dim, budget)
     if pop > budget:

@@ -22,8 +22,9 @@ from pathlib import Path
 import numpy as np
 
 from mimic.errors import MimicError
+from mimic.tasks.base import EpisodeBatch
 from mimic.trials.executors import Executor
-from mimic.trials.parallel import EpisodeBatch, derive_seed, run_job
+from mimic.trials.parallel import derive_seed, run_job
 
 __all__ = [
     "SearchConfig",

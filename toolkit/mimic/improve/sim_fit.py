@@ -57,7 +57,7 @@ from mimic.errors import MimicError
 from mimic.learn.dataset import Dataset
 from mimic.model.motion_model import MotionModel
 from mimic.robot.registry import get_robot
-from mimic.trials.walk import WalkTrialConfig, run_walk_episode
+from mimic.tasks.walk import WalkTrialConfig, run_walk_episode
 from mimic.world.base import Observation
 from mimic.world.registry import LEAGUE_LIKE, MUJOCO
 

@@ -16,6 +16,7 @@ import polars as pl
 
 from mimic.errors import MimicError
 from mimic.improve.search import MAX_SEARCH_EPISODE
+from mimic.tasks.registry import get_task
 from mimic.trials.api import TrialResult
 from mimic.trials.executors import Executor
 from mimic.trials.parallel import derive_seed, run_episodes
@@ -73,6 +74,7 @@ def validate(
             first_episode=indices.start,
             trace_episodes=1 if spec.label == trace_label else 0,
             progress=(lambda b, s=spec: progress(s.label, b)) if progress else None,
+            task=objective.name,
         )
         if batch.traces:
             traces[spec.label] = next(iter(batch.traces.values()))
@@ -84,4 +86,7 @@ def validate(
                 pl.DataFrame(batch.rows).with_columns(pl.lit(spec.label).alias("variant"))
             )
     table = pl.concat(frames, how="diagonal_relaxed") if frames else pl.DataFrame()
-    return TrialResult(objective.name, table, with_ratios(pl.DataFrame(rows)), traces=traces)
+    ratio_columns = get_task(objective.name).ratio_columns
+    return TrialResult(
+        objective.name, table, with_ratios(pl.DataFrame(rows), ratio_columns), traces=traces
+    )

@@ -1,4 +1,6 @@
-"""Trials as functions: run one or more variants under the same seeds and tabulate them."""
+"""Trials as functions: run one or more variants of a task under the same seeds and
+tabulate them. ``run_trial`` plays any task (``tasks.registry``); ``kick_trial``,
+``walk_trial`` and ``getup_trial`` are its three trials with their usual budgets."""
 
 from __future__ import annotations
 
@@ -12,25 +14,28 @@ from mimic import options
 from mimic.agents.registry import AgentSpec
 from mimic.episode.disturbance import disturb_level
 from mimic.errors import MimicError
+from mimic.files import check_outputs
+from mimic.model.model_file import load_model
+from mimic.motion.files import load_motion
+from mimic.tasks.base import EpisodeBatch, TrialTask
+from mimic.tasks.getup import GetupTrialConfig
+from mimic.tasks.kick import KickTrialConfig
+from mimic.tasks.registry import get_task
+from mimic.tasks.walk import WalkTrialConfig
 from mimic.trials.executors import Executor, make_executor
-from mimic.trials.getup import GetupTrialConfig, run_getup_episode
-from mimic.trials.kick import KickTrialConfig, run_kick_episode
-from mimic.trials.parallel import EpisodeBatch, run_episodes
+from mimic.trials.parallel import run_episodes
 from mimic.trials.report import (
-    getup_summary,
-    kick_summary,
     ratio_intervals,
     summary_files,
-    walk_summary,
     with_ratios,
     write_rows,
     write_summary,
 )
-from mimic.trials.walk import WalkTrialConfig, run_walk_episode
 from mimic.world.registry import MUJOCO, check_world, world_kind, world_owns_physics
 
 __all__ = [
     "TrialResult",
+    "run_trial",
     "kick_trial",
     "walk_trial",
     "getup_trial",
@@ -44,6 +49,7 @@ __all__ = [
 class TrialResult:
     """Per-event rows (every kick or walk run, all variants) and the summary table."""
 
+    # The task's name (``tasks.registry``).
     kind: str
     rows: pl.DataFrame
     summary: pl.DataFrame
@@ -52,53 +58,60 @@ class TrialResult:
     # the trial ran with ``trace=True``: the robot and ball replayed in the Rerun dashboard.
     traces: dict = field(default_factory=dict)
 
+    @property
+    def task(self) -> type[TrialTask]:
+        return get_task(self.kind)
+
 
 def trial_files(out: Path | None) -> list[Path]:
     """The files a trial with ``out`` writes: the parquet of every event and its summary."""
     return [] if out is None else [Path(out), *summary_files(Path(out))]
 
 
-def check_variants(kind: str, specs: list[AgentSpec]) -> None:
+def check_variants(task: str | type[TrialTask], specs: list[AgentSpec]) -> None:
     """Before any episode runs: every variant can be built for this trial (model files read
-    and are made for this robot, motion files parse, a kick knows where its ball lies).
+    and are made for this robot, motion files parse, and what the task asks of a variant,
+    e.g. a kick knows where its ball lies).
 
     Raises:
         MimicError: the first variant that cannot, named.
     """
+    task = _task(task)
     if not specs:
         raise MimicError("no variant to try; give a motion, a .mimic model or an agent name")
     for spec in specs:
         options.finite(spec.speed_rate, "--speed-rate", above=0)
         if spec.kind == "model":
-            from mimic.model.model_file import load_model
-
             load_model(spec.ref)
         elif spec.kind == "motion":
-            from mimic.motion.files import load_motion
-
             load_motion(spec.ref, spec.robot)
-        if kind == "kick":
-            spec.ball_offset_m()
+        task.check_variant(spec)
+
+
+def _task(task: str | type[TrialTask]) -> type[TrialTask]:
+    return get_task(task) if isinstance(task, str) else task
 
 
 def check_trial(
-    kind: str,
+    task: str | type[TrialTask],
     specs: list[AgentSpec],
     *,
     minutes: float | None = None,
     runs: int | None = None,
     seed: int = 0,
     workers: int | None = None,
-    config: KickTrialConfig | WalkTrialConfig | GetupTrialConfig | None = None,
+    config=None,
 ) -> None:
     """Everything a trial checks before its first episode: options in range (``--minutes``
     finite and > 0, ``--runs`` and ``--workers`` >= 1, a seed numpy accepts), the world
-    (``config.world``: it plays every variant's robot; a kick's way to the ball suits the
-    robot) and every variant (``check_variants``).
+    (``config.world``: it plays every variant's robot, and can disturb the physics if the
+    level asks), the task's own settings (``TrialTask.check``) and every variant
+    (``check_variants``).
 
     Raises:
         MimicError: the first problem, in one line naming the option or the variant.
     """
+    task = _task(task)
     options.finite(minutes, "--minutes", above=0)
     options.count(runs, "--runs")
     options.seed(seed)
@@ -110,80 +123,65 @@ def check_trial(
             f"--disturb {level} pushes the robot and changes friction and masses, which the "
             f"{world} world cannot (its physics runs in another process); use --disturb none"
         )
-    if kind == "kick" and config is not None:
-        options.finite(config.success_distance_m, "--success-m", at_least=0)
     for spec in specs:
         check_world(world, spec.robot)
-        if kind == "kick" and config is not None:
-            from mimic.trials.kick import reach_method
-
-            reach_method(config, spec.robot)
-    check_variants(kind, specs)
-    if kind == "getup" and config is not None:
-        for spec in specs:  # each lies down on a side: its own, or the one given
-            config.side_for(spec.build().start_posture)
+    check_variants(task, specs)
+    if config is not None:
+        task.check(config, specs)
 
 
-def _run(
-    kind: str,
-    episode_fn: Callable,
-    summarise: Callable,
+def run_trial(
+    task: str | type[TrialTask],
     specs: list[AgentSpec],
-    config,
     *,
-    minutes: float | None,
-    runs: int | None,
-    seed: int,
-    workers: int | None,
-    executor: Executor | None,
-    out: Path | None,
-    progress: Callable[[str, EpisodeBatch], None] | None,
-    trace: bool,
-    overwrite: bool,
+    minutes: float | None = None,
+    runs: int | None = None,
+    seed: int = 0,
+    workers: int | None = None,
+    out: Path | None = None,
+    config=None,
+    progress: Callable[[str, EpisodeBatch], None] | None = None,
+    trace: bool = False,
+    executor: Executor | None = None,
+    overwrite: bool = True,
+    world: str | None = None,
 ) -> TrialResult:
-    check_trial(kind, specs, minutes=minutes, runs=runs, seed=seed, workers=workers, config=config)
-    if out is not None and not overwrite:
-        from mimic.files import check_outputs
+    """The trial of ``task`` (a ``TrialTask`` or its name) for each variant, under the same
+    seeds: for ``minutes`` simulated minutes (whole episodes that end within the budget) or
+    ``runs`` episodes each, one of the two.
 
+    ``config``: the task's settings (None: its defaults); ``world`` (``mujoco``, ``league``,
+    ``league-server`` or ``league-like``; None: ``config.world``): where the episodes play;
+    on ``league-server`` every episode hosts its own server (``world.registry``).
+    ``trace``: keep the first episode of each variant as a pose trace (``result.traces``).
+    ``executor``: where episodes run (``trials.executors``: pool or Ray); default a pool of
+    ``workers`` processes. ``overwrite``: replace existing output files (False: refuse before
+    any episode runs).
+
+    Raises:
+        MimicError: an option out of range, a variant that cannot be built (checked for every
+            variant before the first episode), an output that exists (``overwrite`` False).
+    """
+    task = _task(task)
+    config = task.Config() if config is None else config
+    if world is not None:
+        config = replace(config, world=world_kind(world))
+    if minutes is not None and runs is not None:
+        raise MimicError("give --minutes or --runs, not both")
+    if minutes is None and runs is None:
+        raise MimicError("give --minutes or --runs")
+    check_trial(task, specs, minutes=minutes, runs=runs, seed=seed, workers=workers, config=config)
+    if out is not None and not overwrite:
         check_outputs(trial_files(out))
+    run = dict(minutes=minutes, runs=runs, seed=seed, out=out, progress=progress, trace=trace)
     if executor is None:  # one pool for every variant: workers start once
         with make_executor(workers) as own:
-            return _run_variants(
-                kind,
-                episode_fn,
-                summarise,
-                specs,
-                config,
-                minutes=minutes,
-                runs=runs,
-                seed=seed,
-                executor=own,
-                out=out,
-                progress=progress,
-                trace=trace,
-                overwrite=overwrite,
-            )
-    return _run_variants(
-        kind,
-        episode_fn,
-        summarise,
-        specs,
-        config,
-        minutes=minutes,
-        runs=runs,
-        seed=seed,
-        executor=executor,
-        out=out,
-        progress=progress,
-        trace=trace,
-        overwrite=overwrite,
-    )
+            return _run_variants(task, specs, config, executor=own, overwrite=overwrite, **run)
+    return _run_variants(task, specs, config, executor=executor, overwrite=overwrite, **run)
 
 
 def _run_variants(
-    kind: str,
-    episode_fn: Callable,
-    summarise: Callable,
+    task: type[TrialTask],
     specs: list[AgentSpec],
     config,
     *,
@@ -201,9 +199,9 @@ def _run_variants(
     first_rows = None  # the first variant's events: every ratio's base
     for spec in specs:
         if progress:  # the variant starts now (its clock too), before its first episode ends
-            progress(spec.label, EpisodeBatch([], []))
+            progress(spec.label, EpisodeBatch([], [], task=task.name))
         batch = run_episodes(
-            episode_fn,
+            task.run_episode,
             spec,
             config,
             budget_s=None if minutes is None else minutes * 60,
@@ -211,6 +209,7 @@ def _run_variants(
             seed=seed,
             executor=executor,
             progress=(lambda b, s=spec: progress(s.label, b)) if progress else None,
+            task=task.name,
             trace_episodes=1 if trace else 0,
             expected_episode_s=expected_s,
         )
@@ -219,21 +218,24 @@ def _run_variants(
             traces[spec.label] = batch.traces[0]
         if first_rows is None:  # the base of every ratio: its own is 1, without an interval
             first_rows = batch.rows
-            rows.append(summarise(spec.label, batch))
+            rows.append(task.summarise(spec.label, batch))
         else:
             rows.append(
-                {**summarise(spec.label, batch), **ratio_intervals(kind, first_rows, batch.rows)}
+                {
+                    **task.summarise(spec.label, batch),
+                    **ratio_intervals(task, first_rows, batch.rows),
+                }
             )
         if batch.rows:
             frames.append(
                 pl.DataFrame(batch.rows).with_columns(pl.lit(spec.label).alias("variant"))
             )
-    summary = with_ratios(pl.DataFrame(rows))
+    summary = with_ratios(pl.DataFrame(rows), task.ratio_columns)
     table = pl.concat(frames, how="diagonal_relaxed") if frames else pl.DataFrame()
-    result = TrialResult(kind, table, summary, traces=traces)
+    result = TrialResult(task.name, table, summary, traces=traces)
     if out is not None:
         meta = dict(
-            kind=kind,
+            kind=task.name,
             minutes=minutes,
             runs=runs,
             seed=seed,
@@ -252,50 +254,12 @@ def kick_trial(
     specs: list[AgentSpec],
     *,
     minutes: float = 30.0,
-    seed: int = 0,
-    workers: int | None = None,
-    out: Path | None = None,
     config: KickTrialConfig = KickTrialConfig(),
-    progress=None,
-    trace: bool = False,
-    executor: Executor | None = None,
-    overwrite: bool = True,
-    world: str | None = None,
+    **settings,
 ) -> TrialResult:
-    """Kick trial of each variant for ``minutes`` simulated minutes under the same seeds
-    (whole episodes that end within the budget).
-
-    ``world``: where the episodes play (``mujoco``, ``league``, ``league-server`` or
-    ``league-like``; None: ``config.world``); on ``league-server`` every episode hosts its own
-    server (``world.registry``).
-
-    ``trace``: keep the first episode of each variant as a pose trace (``result.traces``).
-    ``executor``: where episodes run (``trials.executors``: pool or Ray); default a pool of
-    ``workers`` processes. ``overwrite``: replace existing output files (False: refuse before
-    any episode runs).
-
-    Raises:
-        MimicError: an option out of range, a variant that cannot be built (checked for every
-            variant before the first episode), an output that exists (``overwrite`` False).
-    """
-    if world is not None:
-        config = replace(config, world=world_kind(world))
-    return _run(
-        "kick",
-        run_kick_episode,
-        kick_summary,
-        specs,
-        config,
-        minutes=minutes,
-        runs=None,
-        seed=seed,
-        workers=workers,
-        executor=executor,
-        out=out,
-        progress=progress,
-        trace=trace,
-        overwrite=overwrite,
-    )
+    """Kick trial (``tasks.kick``) of each variant for ``minutes`` simulated minutes under
+    the same seeds. Options and Raises: as ``run_trial``."""
+    return run_trial("kick", specs, minutes=minutes, config=config, **settings)
 
 
 def walk_trial(
@@ -303,80 +267,25 @@ def walk_trial(
     *,
     minutes: float | None = None,
     runs: int | None = None,
-    seed: int = 0,
-    workers: int | None = None,
-    out: Path | None = None,
     config: WalkTrialConfig = WalkTrialConfig(),
-    progress=None,
-    trace: bool = False,
-    executor: Executor | None = None,
-    overwrite: bool = True,
-    world: str | None = None,
+    **settings,
 ) -> TrialResult:
-    """Walk trial (from a standing start, straight ahead: our world's own goal line to the
-    centre line, 15 m; the league's 10 m course) of each variant, by minutes or run count.
-
-    ``trace``: keep the first run of each variant as a pose trace (``result.traces``).
-    ``executor``, ``overwrite``, ``world``, Raises: as ``kick_trial``.
-    """
-    if world is not None:
-        config = replace(config, world=world_kind(world))
-    if minutes is not None and runs is not None:
-        raise MimicError("give --minutes or --runs, not both")
+    """Walk trial (``tasks.walk``: from a standing start, straight ahead: our world's own
+    goal line to the centre line, 15 m; the league's 10 m course) of each variant, by
+    minutes or run count (default 10 runs). Options and Raises: as ``run_trial``."""
     if minutes is None and runs is None:
         runs = 10
-    return _run(
-        "walk",
-        run_walk_episode,
-        walk_summary,
-        specs,
-        config,
-        minutes=minutes,
-        runs=runs,
-        seed=seed,
-        workers=workers,
-        executor=executor,
-        out=out,
-        progress=progress,
-        trace=trace,
-        overwrite=overwrite,
-    )
+    return run_trial("walk", specs, minutes=minutes, runs=runs, config=config, **settings)
 
 
 def getup_trial(
     specs: list[AgentSpec],
     *,
     runs: int = 10,
-    seed: int = 0,
-    workers: int | None = None,
-    out: Path | None = None,
     config: GetupTrialConfig = GetupTrialConfig(),
-    progress=None,
-    trace: bool = False,
-    executor: Executor | None = None,
-    overwrite: bool = True,
-    world: str | None = None,
+    **settings,
 ) -> TrialResult:
-    """Get-up trial (``trials.getup``: knocked down on the side the get-up starts from, get
-    up) of each variant, ``runs`` runs each on seeds drawn from ``seed``.
-
-    ``trace``, ``executor``, ``overwrite``, ``world``, Raises: as ``kick_trial``.
-    """
-    if world is not None:
-        config = replace(config, world=world_kind(world))
-    return _run(
-        "getup",
-        run_getup_episode,
-        getup_summary,
-        specs,
-        config,
-        minutes=None,
-        runs=runs,
-        seed=seed,
-        workers=workers,
-        executor=executor,
-        out=out,
-        progress=progress,
-        trace=trace,
-        overwrite=overwrite,
-    )
+    """Get-up trial (``tasks.getup``: knocked down on the side the get-up starts from, get
+    up) of each variant, ``runs`` runs each on seeds drawn from ``seed``. Options and
+    Raises: as ``run_trial``."""
+    return run_trial("getup", specs, runs=runs, config=config, **settings)

@@ -120,8 +120,8 @@ class InlineExecutor(Executor):
 
 def _warm_up() -> None:
     """Import the simulator and the episodes in a fresh worker process."""
-    import mimic.trials.kick  # noqa: F401
-    import mimic.trials.walk  # noqa: F401
+    import mimic.tasks.kick  # noqa: F401
+    import mimic.tasks.walk  # noqa: F401
 
 
 class _Inline:

@@ -12,13 +12,13 @@ import dataclasses
 import math
 from collections import deque
 from collections.abc import Callable
-from dataclasses import dataclass, field
 
 import numpy as np
 
+from mimic.tasks.base import EpisodeBatch
 from mimic.trials.executors import Executor, available_cores, make_executor
 
-__all__ = ["EpisodeBatch", "run_episodes", "derive_seed", "default_workers", "run_job"]
+__all__ = ["run_episodes", "derive_seed", "default_workers", "run_job"]
 
 
 def derive_seed(seed: int, episode: int) -> int:
@@ -28,27 +28,6 @@ def derive_seed(seed: int, episode: int) -> int:
 
 def default_workers() -> int:
     return available_cores()
-
-
-@dataclass
-class EpisodeBatch:
-    """Rows of every counted episode, tagged with the episode index."""
-
-    rows: list[dict]
-    episodes: list[dict]
-    # Pose traces of the traced episodes, by episode index (see ``episode.PoseTrace``).
-    traces: dict = field(default_factory=dict)
-
-    def add(self, rows: list[dict], summary: dict) -> None:
-        trace = summary.pop("trace", None)
-        if trace is not None:
-            self.traces[summary["episode"]] = trace
-        self.rows += rows
-        self.episodes.append(summary)
-
-    @property
-    def simulated_s(self) -> float:
-        return sum(e["duration_s"] for e in self.episodes)
 
 
 def run_job(job: tuple) -> tuple[list[dict], dict]:
@@ -76,6 +55,7 @@ def run_episodes(
     trace_episodes: int = 0,
     first_episode: int = 0,
     expected_episode_s: float | None = None,
+    task: str | None = None,
 ) -> EpisodeBatch:
     """Run ``func(spec, seed, config) -> (rows, summary)`` episodes until the next one would
     end past ``budget_s`` of simulated time (summary['duration_s']), or exactly ``episodes``.
@@ -109,8 +89,9 @@ def run_episodes(
                 trace_episodes=trace_episodes,
                 first_episode=first_episode,
                 expected_episode_s=expected_episode_s,
+                task=task,
             )
-    batch = EpisodeBatch([], [])
+    batch = EpisodeBatch([], [], task=task)
 
     def jobs():
         i = 0

@@ -12,9 +12,9 @@ from __future__ import annotations
 import time
 from dataclasses import dataclass
 
+from mimic.tasks.walk import WalkTrialConfig, run_walk_episode
 from mimic.trials.executors import InlineExecutor, PoolExecutor, RayExecutor
 from mimic.trials.parallel import run_episodes
-from mimic.trials.walk import WalkTrialConfig, run_walk_episode
 
 __all__ = ["ScalingRow", "bench_scaling", "format_scaling"]
 

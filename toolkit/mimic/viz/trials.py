@@ -1,6 +1,8 @@
-"""Trial dashboards: kick-distance histograms, running accuracy, episode markers, where the
-ball ended up on the field; walk speeds and lateral errors per run; and the first episode of
-each variant replayed in 3D (robot and ball on the field), one view per variant."""
+"""Trial dashboards: each task's curves over its events, a running rate, a histogram, where
+the ball ended up on the field and where episodes start, as its ``Dashboard`` asks (kicks:
+distance, running accuracy; walks: speed and lateral error; get-ups: time to stand); and the
+first episode of each variant replayed in 3D (robot and ball on the field, pushes as arrows),
+one view per variant."""
 
 from __future__ import annotations
 
@@ -12,6 +14,8 @@ import rerun as rr
 import rerun.blueprint as rrb
 
 from mimic.robot.registry import DEFAULT_ROBOT
+from mimic.tasks.registry import get_task
+from mimic.trials.report import to_markdown
 from mimic.viz.paths import TIMELINE, WORLD
 from mimic.viz.scene import (
     log_ball_poses,
@@ -31,43 +35,37 @@ def _slug(label: str) -> str:
     return "".join(c if c.isalnum() else "_" for c in label).strip("_")
 
 
-def _log_kicks(rec: rr.RecordingStream, name: str, kicks: pl.DataFrame) -> None:
-    index = [rr.TimeColumn(_EVENT, sequence=np.arange(kicks.height))]
-    distance = kicks["distance_m"].to_numpy()
-    success = kicks["success"].to_numpy().astype(float)
-    running = np.cumsum(success) / np.arange(1, len(success) + 1) * 100
-    rec.send_columns(
-        f"trial/distance_m/{name}", indexes=index, columns=rr.Scalars.columns(scalars=distance)
-    )
-    rec.send_columns(
-        f"trial/running_accuracy_pct/{name}",
-        indexes=index,
-        columns=rr.Scalars.columns(scalars=running),
-    )
-    counts, _ = np.histogram(distance, bins=np.arange(0.0, 21.0, 1.0))
-    rec.log(f"histogram/{name}", rr.BarChart(counts), static=True)
-    ends = kicks.select("ball_end_x_m", "ball_end_y_m").to_numpy()
-    rec.log(
-        f"world/ball_ends/{name}",
-        rr.Points3D(np.c_[ends, np.full(len(ends), 0.05)], radii=0.06),
-        static=True,
-    )
-    starts = kicks.with_row_index().group_by("episode").agg(pl.col("index").min())
-    for episode, first in starts.sort("episode").iter_rows():
-        rec.set_time(_EVENT, sequence=int(first))
-        rec.log(f"episodes/{name}", rr.TextLog(f"episode {episode} starts"))
-
-
-def _log_walks(rec: rr.RecordingStream, name: str, runs: pl.DataFrame) -> None:
-    index = [rr.TimeColumn(_EVENT, sequence=np.arange(runs.height))]
-    for column in ("speed_m_s", "y_error_m"):
+def _log_events(rec: rr.RecordingStream, name: str, events: pl.DataFrame, dashboard) -> None:
+    """One variant's events as the task's dashboard draws them (``tasks.base.Dashboard``)."""
+    index = [rr.TimeColumn(_EVENT, sequence=np.arange(events.height))]
+    for column in dashboard.curves:
         rec.send_columns(
             f"trial/{column}/{name}",
             indexes=index,
-            columns=rr.Scalars.columns(scalars=runs[column].to_numpy()),
+            columns=rr.Scalars.columns(scalars=events[column].cast(pl.Float64).to_numpy()),
         )
-    counts, _ = np.histogram(runs["speed_m_s"].to_numpy(), bins=np.arange(0.0, 1.5, 0.05))
+    if dashboard.running_rate:
+        column, curve = dashboard.running_rate
+        hits = events[column].to_numpy().astype(float)
+        running = np.cumsum(hits) / np.arange(1, len(hits) + 1) * 100
+        rec.send_columns(
+            f"trial/{curve}/{name}", indexes=index, columns=rr.Scalars.columns(scalars=running)
+        )
+    values = events[dashboard.histogram].cast(pl.Float64).to_numpy()
+    counts, _ = np.histogram(values[np.isfinite(values)], bins=np.arange(*dashboard.histogram_bins))
     rec.log(f"histogram/{name}", rr.BarChart(counts), static=True)
+    if dashboard.ball_ends:
+        ends = events.select("ball_end_x_m", "ball_end_y_m").to_numpy()
+        rec.log(
+            f"world/ball_ends/{name}",
+            rr.Points3D(np.c_[ends, np.full(len(ends), 0.05)], radii=0.06),
+            static=True,
+        )
+    if dashboard.episode_markers:
+        starts = events.with_row_index().group_by("episode").agg(pl.col("index").min())
+        for episode, first in starts.sort("episode").iter_rows():
+            rec.set_time(_EVENT, sequence=int(first))
+            rec.log(f"episodes/{name}", rr.TextLog(f"episode {episode} starts"))
 
 
 def _log_replay(rec: rr.RecordingStream, name: str, trace) -> None:
@@ -105,20 +103,14 @@ def log_trial(rec: rr.RecordingStream, result) -> None:
     log_field(rec)
     for label in result.rows["variant"].unique(maintain_order=True):
         part = result.rows.filter(pl.col("variant") == label)
-        (_log_kicks if result.kind == "kick" else _log_walks)(rec, _slug(label), part)
+        _log_events(rec, _slug(label), part, get_task(result.kind).dashboard)
     for label, trace in result.traces.items():
         _log_replay(rec, _slug(label), trace)
     rec.log(
         "summary",
-        rr.TextDocument(_markdown(result.summary), media_type="text/markdown"),
+        rr.TextDocument(to_markdown(result.summary), media_type="text/markdown"),
         static=True,
     )
-
-
-def _markdown(summary: pl.DataFrame) -> str:
-    from mimic.trials.report import to_markdown
-
-    return to_markdown(summary)
 
 
 def trial_blueprint(result) -> rrb.Blueprint:
@@ -126,11 +118,7 @@ def trial_blueprint(result) -> rrb.Blueprint:
     per traced variant, the distance or speed histogram and episode markers on the right."""
     views = [
         rrb.TimeSeriesView(origin=f"trial/{m}", name=m)
-        for m in (
-            ("distance_m", "running_accuracy_pct")
-            if result.kind == "kick"
-            else ("speed_m_s", "y_error_m")
-        )
+        for m in get_task(result.kind).dashboard.series
     ]
     field = [
         rrb.Spatial3DView(

@@ -14,18 +14,37 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import asdict, dataclass, replace
+from typing import ClassVar
 
 import numpy as np
+import polars as pl
 
+from mimic import options
 from mimic.agents.registry import AgentSpec
 from mimic.episode import Episode, PoseNoise, PoseTrace, Scene
 from mimic.episode.disturbance import EpisodeDisturbances
 from mimic.episode.scene import BALL_ASIDE_M, SETTLE_S
+from mimic.errors import MimicError
+from mimic.stats import mean_interval, wilson_interval
+from mimic.tasks.base import (
+    Column,
+    Dashboard,
+    EpisodeBatch,
+    TrialTask,
+    as_row,
+    ci_columns,
+    first_value,
+)
 from mimic.world.base import World
 from mimic.world.registry import MUJOCO, open_world, world_kind
 
 __all__ = [
+    "KickTask",
+    "KickObjective",
+    "KickRow",
+    "KickEpisode",
+    "kick_summary",
     "KickTrialConfig",
     "run_kick_episode",
     "kick_scene",
@@ -92,8 +111,6 @@ def reach_method(config: KickTrialConfig, robot: str) -> str:
     Raises:
         MimicError: ``walk`` for a robot our walk engine cannot drive, or an unknown method.
     """
-    from mimic.errors import MimicError
-
     if config.reach == "auto":
         return "walk" if robot == "nao" and world_kind(config.world) == MUJOCO else "place"
     if config.reach not in REACH_METHODS:
@@ -204,6 +221,64 @@ def _place_behind_ball(
     return "fell" if outcome == "fell" else "arrived"
 
 
+@dataclass(frozen=True)
+class KickRow:
+    """One kick: from where the ball lay to where it stopped (or left play) [m, field frame]."""
+
+    # The kick's number in its episode, from 0.
+    kick: int
+    # Simulated time the kick started [s].
+    time_s: float
+    # Straight distance the ball travelled [m].
+    distance_m: float
+    # Farther than the trial's ``success_distance_m``.
+    success: bool
+    # Angle between the ball's travel and the line from its start to the goal centre [deg].
+    direction_error_deg: float
+    goal: bool
+    # The ball left the field (our world) or the league's referee called it out.
+    ball_out: bool
+    # The robot fell during the kick or the wait after it.
+    fell: bool
+    ball_start_x_m: float
+    ball_start_y_m: float
+    ball_end_x_m: float
+    ball_end_y_m: float
+    # Where the ball lay in the robot's frame before the kick, less the kick's ball offset [m].
+    lineup_error_x_m: float
+    lineup_error_y_m: float
+    # Pushes begun during the kick and the wait after it.
+    pushes_during_kick: int
+
+
+#: The episode's disturbance draw repeated beside every kick (``EpisodeDisturbances.columns``).
+_DRAW_PER_KICK = ("disturb", "friction_scale", "mass_scale", "start_delay_s")
+
+
+@dataclass(frozen=True)
+class KickEpisode:
+    """One kick-trial episode: kicks until a goal, the ball out, or the time limit."""
+
+    seed: int
+    # Simulated time the episode took [s].
+    duration_s: float
+    kicks: int
+    # 1 if the episode ended in a goal from a kick.
+    goals: int
+    # 1 if the ball went in while the robot walked to it (no kick's credit).
+    goals_while_walking: int
+    falls: int
+    getups: int
+    # Why it ended: goal, ball out, time limit, could not get up, could not stand, stuck: ...
+    end: str
+    stuck: bool
+    world: str
+    # How the robot reached the ball: walk or place.
+    reach: str
+    # The episode's disturbance draw (``EpisodeDisturbances.columns``).
+    disturbances: dict
+
+
 class _BallWatch:
     """Stop condition of the wait after a kick: the ball has come to rest and ``waited(world)``
     holds, or the league's referee has acted. Remembers where the ball was last seen in play:
@@ -290,7 +365,7 @@ def _play_kick_episode(
             end_xy = watch.in_play_xy
         distance = float(np.linalg.norm(end_xy - start_xy))
         rows.append(
-            dict(
+            KickRow(
                 kick=len(rows),
                 time_s=start_t,
                 distance_m=distance,
@@ -308,10 +383,10 @@ def _play_kick_episode(
                 pushes_during_kick=pushed,
             )
         )
-        if rows[-1]["goal"]:
+        if rows[-1].goal:
             end = "goal"
             break
-        if rows[-1]["ball_out"]:
+        if rows[-1].ball_out:
             end = "ball out"
             break
         if reach == "place":
@@ -334,11 +409,12 @@ def _play_kick_episode(
         if walk != "arrived":
             end = "could not get up" if walk == "fell" else f"stuck: {walk}"
             break
-    summary = dict(
+    draw = disturb.columns()
+    summary = KickEpisode(
         seed=seed,
         duration_s=world.time_s,
         kicks=len(rows),
-        goals=int(any(r["goal"] for r in rows)),
+        goals=int(any(r.goal for r in rows)),
         goals_while_walking=int(end == "goal while walking"),
         falls=falls.falls,
         getups=falls.getups,
@@ -346,12 +422,159 @@ def _play_kick_episode(
         stuck=end.startswith("stuck"),
         world=world_kind(config.world),
         reach=reach,
-        **disturb.columns(),
+        disturbances=draw,
     )
-    for row in rows:  # the episode's draw beside every kick
-        row.update(
-            {k: summary[k] for k in ("disturb", "friction_scale", "mass_scale", "start_delay_s")}
-        )
+    # The episode's draw beside every kick.
+    kicks = [as_row(r) | {k: draw[k] for k in _DRAW_PER_KICK} for r in rows]
+    episode_row = as_row(summary)
     if trace is not None:
-        summary["trace"] = disturb.traced(trace.trace())
-    return rows, summary
+        episode_row["trace"] = disturb.traced(trace.trace())
+    return kicks, episode_row
+
+
+def kick_summary(label: str, batch: EpisodeBatch) -> dict:
+    """One row of the kick table."""
+    kicks = (
+        pl.DataFrame(batch.rows)
+        if batch.rows
+        else pl.DataFrame(
+            {"distance_m": [], "success": [], "direction_error_deg": []},
+            schema={
+                "distance_m": pl.Float64,
+                "success": pl.Boolean,
+                "direction_error_deg": pl.Float64,
+            },
+        )
+    )
+    eps = pl.DataFrame(batch.episodes)
+    n = kicks.height
+    ok = int(kicks["success"].sum()) if n else 0
+    return dict(
+        variant=label,
+        attempts=n,
+        successful=ok,
+        accuracy_pct=100.0 * kicks["success"].mean() if n else 0.0,
+        **ci_columns("accuracy_pct", wilson_interval(ok, n), 100.0),
+        mean_distance_m=kicks["distance_m"].mean() if n else 0.0,
+        **ci_columns("mean_distance_m", mean_interval(kicks["distance_m"].to_numpy())),
+        std_distance_m=kicks["distance_m"].std() if n > 1 else 0.0,
+        mean_direction_error_deg=kicks["direction_error_deg"].mean() if n else 0.0,
+        goals=int(eps["goals"].sum()),
+        goals_while_walking=int(eps["goals_while_walking"].sum()) if n else 0,
+        falls=int(eps["falls"].sum()),
+        getups=int(eps["getups"].sum()),
+        stuck=int(eps["stuck"].sum()),
+        episodes=eps.height,
+        simulated_min=batch.simulated_s / 60,
+        world=first_value(batch.episodes, "world"),
+        reach=first_value(batch.episodes, "reach"),
+        disturb=first_value(batch.episodes, "disturb"),
+    )
+
+
+@dataclass(frozen=True)
+class KickObjective:
+    """What ``mimic improve --objective kick`` maximises: kick distance and accuracy, the
+    mean over kicks of distance x success [m] (a kick succeeds when the ball travels more
+    than the trial's ``success_distance_m``, the study's 2 m unless set; 0 scores plain
+    distance), minus ``fall_penalty_m`` per fall per kick. The search plays kick-trial
+    episodes (reach the ball, line up, kick, until a goal) cut at ``search_limit_s`` of
+    simulated time to spend the budget on kicks; validation plays the trial unchanged."""
+
+    # Trial episodes per candidate evaluation.
+    episodes: int = 2
+    # Simulated time of one search episode [s] (the trial's episodes run up to 240 s).
+    search_limit_s: float = 60.0
+    # Score lost per fall per kick [m].
+    fall_penalty_m: float = 2.0
+    # The kick trial's settings (validation runs them unchanged).
+    trial_config: KickTrialConfig = KickTrialConfig()
+
+    name: ClassVar[str] = "kick"
+    #: The setting ``mimic improve --fall-penalty`` sets.
+    fall_penalty_setting: ClassVar[str | None] = "fall_penalty_m"
+    episode_fn = staticmethod(run_kick_episode)
+    summarise = staticmethod(kick_summary)
+
+    @property
+    def search_config(self) -> KickTrialConfig:
+        return replace(self.trial_config, episode_limit_s=self.search_limit_s)
+
+    def score(self, batch: EpisodeBatch) -> float:
+        """Mean distance x success [m] over the batch's kicks, minus the fall penalty."""
+        falls = sum(e["falls"] for e in batch.episodes)
+        kicks = len(batch.rows)
+        if kicks == 0:
+            return -self.fall_penalty_m * (1 + falls)
+        success_m = self.trial_config.success_distance_m
+        useful = np.mean([r["distance_m"] * (r["distance_m"] > success_m) for r in batch.rows])
+        return float(useful - self.fall_penalty_m * falls / kicks)
+
+    def describe(self) -> dict:
+        return dict(
+            name=self.name,
+            episodes=self.episodes,
+            search_limit_s=self.search_limit_s,
+            fall_penalty_m=self.fall_penalty_m,
+            success_distance_m=self.trial_config.success_distance_m,
+            trial_config=asdict(self.trial_config),
+        )
+
+
+class KickTask(TrialTask):
+    """The kick trial (module docstring)."""
+
+    name = "kick"
+    Config = KickTrialConfig
+    Objective = KickObjective
+    event = "kick"
+    # About 60 kicks.
+    validation_episodes = 12
+    columns = (
+        Column("variant", "variant"),
+        Column("attempts", "kicks"),
+        Column("successful", "ok"),
+        Column("accuracy_pct", "acc %", "accuracy_pct", "range"),
+        Column("mean_distance_m", "dist m", "mean_distance_m"),
+        Column("std_distance_m", "std m"),
+        Column("goals", "goals"),
+        Column("falls", "falls"),
+        Column("stuck", "stuck"),
+        Column("accuracy_pct_ratio", "acc ratio", "accuracy_pct_ratio"),
+        Column("mean_distance_m_ratio", "dist ratio", "mean_distance_m_ratio"),
+    )
+    legend = (
+        "95% CI: 95 % confidence interval of the accuracy (Wilson) and of the mean distance "
+        "(t, +- half width). ok: kicks farther than {success_distance_m:g} m. stuck: episodes that ended "
+        "because the robot could not reach the ball in time or could not line up with it. "
+        "Ratios: against the first variant, with their 95 % interval (delta method)."
+    )
+    ratio_columns = ("accuracy_pct", "mean_distance_m", "std_distance_m", "goals")
+    ratio_sources = {"mean_distance_m": "distance_m", "accuracy_pct": "success"}
+    dashboard = Dashboard(
+        curves=("distance_m",),
+        running_rate=("success", "running_accuracy_pct"),
+        histogram="distance_m",
+        histogram_bins=(0.0, 21.0, 1.0),
+        ball_ends=True,
+        episode_markers=True,
+    )
+    run_episode = staticmethod(run_kick_episode)
+    summarise = staticmethod(kick_summary)
+
+    @classmethod
+    def check(cls, config: KickTrialConfig, specs: list[AgentSpec]) -> None:
+        """The success distance is a distance; every robot can reach the ball this way."""
+        options.finite(config.success_distance_m, "--success-m", at_least=0)
+        for spec in specs:
+            reach_method(config, spec.robot)
+
+    @classmethod
+    def check_variant(cls, spec: AgentSpec) -> None:
+        """A kick knows where its ball lies."""
+        spec.ball_offset_m()
+
+    @classmethod
+    def counts(cls, batch: EpisodeBatch, minutes: float | None) -> str:
+        goals = sum(e.get("goals", 0) for e in batch.episodes)
+        return f"{len(batch.rows)} kicks {goals} goals"

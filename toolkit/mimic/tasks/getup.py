@@ -12,9 +12,11 @@ start to the first cycle after which it stayed upright to the end.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import asdict, dataclass
+from typing import ClassVar
 
 import numpy as np
+import polars as pl
 
 from mimic.agents.hold import HoldPose
 from mimic.agents.registry import AgentSpec
@@ -23,10 +25,29 @@ from mimic.episode.disturbance import EpisodeDisturbances
 from mimic.episode.observers import Observer, UprightLog
 from mimic.episode.scene import SETTLE_S
 from mimic.errors import MimicError
+from mimic.stats import mean_interval, wilson_interval
+from mimic.tasks.base import (
+    Column,
+    Dashboard,
+    EpisodeBatch,
+    TrialTask,
+    as_row,
+    ci_columns,
+    first_value,
+)
 from mimic.world.base import CYCLE_S
 from mimic.world.registry import open_world, world_kind
 
-__all__ = ["GetupTrialConfig", "run_getup_episode", "getup_scene", "SIDES"]
+__all__ = [
+    "GetupTask",
+    "GetupObjective",
+    "GetupRun",
+    "getup_summary",
+    "GetupTrialConfig",
+    "run_getup_episode",
+    "getup_scene",
+    "SIDES",
+]
 
 #: Sides a get-up trial lays the robot on.
 SIDES = ("front", "back")
@@ -145,7 +166,7 @@ def _play_getup_episode(
     k = len(log.upright)
     while upright and k > 0 and log.upright[k - 1]:
         k -= 1
-    row = dict(
+    run_row = GetupRun(
         seed=seed,
         side=side,
         stood=upright,
@@ -157,7 +178,154 @@ def _play_getup_episode(
         duration_s=world.time_s,
         falls=0 if upright else 1,
         world=world_kind(config.world),
-        **disturb.columns(),
+        disturbances=disturb.columns(),
     )
+    row = as_row(run_row)
     summary = dict(row, trace=disturb.traced(trace.trace())) if trace is not None else row
     return [row], summary
+
+
+@dataclass(frozen=True)
+class GetupRun:
+    """One get-up from lying on ``side``."""
+
+    seed: int
+    # front or back.
+    side: str
+    # Upright (``World.upright``) at the run's end.
+    stood: bool
+    # From the get-up's start to the first cycle after which it stayed upright [s]; None if
+    # it did not stand.
+    time_to_stand_s: float | None
+    # How long the get-up itself played [s].
+    motion_s: float
+    # done, timeout, stop or fell.
+    end: str
+    # The torso's height at the end and the highest it got [m].
+    torso_height_m: float
+    max_torso_height_m: float
+    # Simulated time at the run's end, settling included [s].
+    duration_s: float
+    # 1 if it did not stand.
+    falls: int
+    world: str
+    # The episode's disturbance draw (``EpisodeDisturbances.columns``).
+    disturbances: dict
+
+
+def getup_summary(label: str, batch: EpisodeBatch) -> dict:
+    """One row of the get-up table: how many runs stood up, and how fast."""
+    runs = pl.DataFrame(batch.rows)
+    stood = runs.filter(pl.col("stood"))
+    times = stood["time_to_stand_s"].cast(pl.Float64).to_numpy()
+    return dict(
+        variant=label,
+        runs=runs.height,
+        stood=stood.height,
+        success_pct=100.0 * stood.height / runs.height,
+        **ci_columns("success_pct", wilson_interval(stood.height, runs.height), 100.0),
+        mean_time_to_stand_s=float(times.mean()) if len(times) else None,
+        **ci_columns("mean_time_to_stand_s", mean_interval(times)),
+        std_time_to_stand_s=float(times.std(ddof=1)) if len(times) > 1 else 0.0,
+        falls=runs.height - stood.height,
+        simulated_min=batch.simulated_s / 60,
+        world=first_value(batch.rows, "world"),
+        side=first_value(batch.rows, "side"),
+        disturb=first_value(batch.rows, "disturb"),
+    )
+
+
+@dataclass(frozen=True)
+class GetupObjective:
+    """What ``mimic improve --objective getup`` maximises: the share of get-up trial runs
+    that stood up, less ``time_weight_per_s`` per second they took (mean over runs; a run
+    that stays down counts the trial's whole ``timeout_s``, plus ``height_credit_per_m`` per
+    metre its torso rose at its highest)."""
+
+    # Get-up trial runs per candidate evaluation.
+    episodes: int = 4
+    # Score lost per second to stand [1/s] (a 6 s get-up that stands: 1 - 0.06 = 0.94).
+    time_weight_per_s: float = 0.01
+    # A run that stays down: credit per metre its torso rose at its highest [1/m] (a search
+    # that starts where nothing stands up gets a slope to climb; a T1 kneeling 0.35 m up
+    # earns 0.17, less than any run that stands).
+    height_credit_per_m: float = 0.5
+    # The get-up trial's settings.
+    trial_config: GetupTrialConfig = GetupTrialConfig()
+
+    name: ClassVar[str] = "getup"
+    #: A get-up scores success, not falls: ``--fall-penalty`` does not apply.
+    fall_penalty_setting: ClassVar[str | None] = None
+    episode_fn = staticmethod(run_getup_episode)
+    summarise = staticmethod(getup_summary)
+
+    @property
+    def search_config(self) -> GetupTrialConfig:
+        return self.trial_config
+
+    def score(self, batch: EpisodeBatch) -> float:
+        """Share of runs that stood, less the time weight per second they took; a run that
+        stayed down: the whole time, plus the height credit."""
+        w, limit, credit = (
+            self.time_weight_per_s,
+            self.trial_config.timeout_s,
+            self.height_credit_per_m,
+        )
+        return float(
+            np.mean(
+                [
+                    (1.0 - w * r["time_to_stand_s"])
+                    if r["stood"]
+                    else -w * limit + credit * r.get("max_torso_height_m", 0.0)
+                    for r in batch.rows
+                ]
+            )
+        )
+
+    def describe(self) -> dict:
+        return dict(
+            name=self.name,
+            episodes=self.episodes,
+            time_weight_per_s=self.time_weight_per_s,
+            height_credit_per_m=self.height_credit_per_m,
+            trial_config=asdict(self.trial_config),
+        )
+
+
+class GetupTask(TrialTask):
+    """The get-up trial (module docstring)."""
+
+    name = "getup"
+    Config = GetupTrialConfig
+    Objective = GetupObjective
+    validation_episodes = 20
+    columns = (
+        Column("variant", "variant"),
+        Column("side", "side"),
+        Column("runs", "runs"),
+        Column("stood", "stood"),
+        Column("success_pct", "stood %", "success_pct", "range"),
+        Column("mean_time_to_stand_s", "time s", "mean_time_to_stand_s"),
+        Column("std_time_to_stand_s", "std s"),
+        Column("mean_time_to_stand_s_ratio", "time ratio"),
+    )
+    legend = (
+        "stood: runs upright at their end; time: from the get-up's start until the robot "
+        "stayed upright. 95% CI: of the share that stood (Wilson) and of the mean time (t, +- "
+        "half width). Ratios: against the first variant."
+    )
+    ratio_columns = ("success_pct", "mean_time_to_stand_s")
+    ratio_sources = {"mean_time_to_stand_s": "time_to_stand_s"}
+    dashboard = Dashboard(
+        curves=("time_to_stand_s", "max_torso_height_m"),
+        histogram="time_to_stand_s",
+        histogram_bins=(0.0, 20.5, 0.5),
+    )
+    run_episode = staticmethod(run_getup_episode)
+    summarise = staticmethod(getup_summary)
+
+    @classmethod
+    def check(cls, config: GetupTrialConfig, specs: list[AgentSpec]) -> None:
+        """Each variant lies down on a side: its own, or the one given."""
+        for spec in specs:
+            config.side_for(spec.build().start_posture)
