@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import inspect
 import math
 import time
 from dataclasses import asdict, replace
@@ -19,7 +20,6 @@ from mimic.cli.common import (
     FORCE,
     ROBOT,
     SAVE_OLD,
-    SUCCESS_M,
     WORLD,
     console,
     reports_errors,
@@ -309,159 +309,158 @@ def _check(
         require_viewer("--save FILE.rrd")
 
 
-@trial_app.command("kick")
-@reports_errors
-def kick(
-    variants: Annotated[list[str] | None, _VARIANTS] = None,
-    compare: Annotated[bool, _COMPARE] = False,
-    motion: Annotated[str | None, _MOTION] = None,
-    model: Annotated[str | None, _MODEL] = None,
-    minutes: Annotated[float, typer.Option(help="Simulated minutes per variant, > 0.")] = 30.0,
-    seed: Annotated[int, _SEED] = 0,
-    workers: Annotated[int | None, WORKERS] = None,
-    balance: Annotated[
-        bool, typer.Option(help="Wrap learned motions in balance feedback.")
-    ] = False,
-    out: Annotated[
-        Path | None, typer.Option("--out", "-o", help="Parquet file of every kick.")
-    ] = None,
-    save: Annotated[Path | None, typer.Option("--save", help=_SAVE_HELP)] = None,
-    save_old: Annotated[Path | None, SAVE_OLD] = None,
-    rerun: Annotated[bool, _RERUN] = False,
-    force: Annotated[bool, FORCE] = False,
-    ray: Annotated[bool, RAY] = False,
-    ray_address: Annotated[str | None, RAY_ADDRESS] = None,
-    world: Annotated[str, WORLD] = "mujoco",
-    robot: Annotated[str | None, ROBOT] = None,
-    success_m: Annotated[float | None, SUCCESS_M] = None,
-    disturb: Annotated[str | None, DISTURB] = None,
-) -> None:
-    """Kick trial: kick toward the goal, reach the ball (walk there, or be placed behind it),
-    kick again until a goal; repeat."""
-    from mimic.tasks.kick import KickTrialConfig
-    from mimic.trials.api import kick_trial
-    from mimic.world.registry import world_kind
+#: The options every trial command has, in order (name -> annotated type, default).
+_COMMON_OPTIONS = {
+    "variants": (Annotated[list[str] | None, _VARIANTS], None),
+    "compare": (Annotated[bool, _COMPARE], False),
+    "motion": (Annotated[str | None, _MOTION], None),
+    "model": (Annotated[str | None, _MODEL], None),
+}
+_RUN_OPTIONS = {
+    "seed": (Annotated[int, _SEED], 0),
+    "workers": (Annotated[int | None, WORKERS], None),
+    "balance": (
+        Annotated[bool, typer.Option(help="Wrap learned motions in balance feedback.")],
+        False,
+    ),
+}
+_SPEED_OPTIONS = {
+    "speed_rate": (
+        Annotated[
+            float, typer.Option(help="Phase-rate multiplier for learned cyclic motions, > 0.")
+        ],
+        1.0,
+    ),
+    "vx": (
+        Annotated[
+            float | None,
+            typer.Option(
+                "--vx",
+                help="Forward speed command \\[m/s] for every variant that takes one (learned "
+                "walks, the other team's walks); default: each its own.",
+                show_default=False,
+            ),
+        ],
+        None,
+    ),
+}
+_OUTPUT_OPTIONS = {
+    "out": (
+        Annotated[Path | None, typer.Option("--out", "-o", help="Parquet file of every event.")],
+        None,
+    ),
+    "save": (Annotated[Path | None, typer.Option("--save", help=_SAVE_HELP)], None),
+    "save_old": (Annotated[Path | None, SAVE_OLD], None),
+    "rerun": (Annotated[bool, _RERUN], False),
+    "force": (Annotated[bool, FORCE], False),
+    "ray": (Annotated[bool, RAY], False),
+    "ray_address": (Annotated[str | None, RAY_ADDRESS], None),
+    "world": (Annotated[str, WORLD], "mujoco"),
+    "robot": (Annotated[str | None, ROBOT], None),
+    "disturb": (Annotated[str | None, DISTURB], None),
+}
 
-    save = save_path(save, save_old)
-    world = world_kind(world)
-    robot = _trial_robot(robot, world, [*(variants or []), motion, model])
-    specs = _specs(variants, compare, motion, model, balance, 1.0, "kick_right", robot)
-    config = KickTrialConfig(world=world, disturb=_disturb(disturb, world))
-    if success_m is not None:
-        config = replace(config, success_distance_m=success_m)
-    _check(
-        "kick",
-        specs,
-        out,
-        save,
-        force,
-        rerun,
-        minutes=minutes,
-        seed=seed,
-        workers=workers,
-        config=config,
-    )
-    with (
-        open_executor(workers, ray, ray_address) as executor,
-        TrialProgress(minutes, None) as progress,
-    ):
-        result = kick_trial(
-            specs,
-            minutes=minutes,
-            seed=seed,
-            executor=executor,
-            out=out,
-            progress=progress,
-            trace=bool(save or rerun),
-            overwrite=force,
-            config=config,
+
+def _budget_options(task) -> dict:
+    """``--minutes`` and/or ``--runs``, as the task counts its budget."""
+    out = {}
+    if task.by_minutes:
+        default = task.minutes
+        help_text = "Simulated minutes per variant, > 0."
+        out["minutes"] = (
+            Annotated[
+                float | None,
+                typer.Option(help=help_text, show_default=default is not None),
+            ],
+            default,
         )
-    _print(
-        result,
-        f"kick trial, {_minutes_text(result, minutes)}, seed {seed}; {_world_text(result)}",
-        config,
+    if task.runs is not None:
+        help_text = "Runs per variant, >= 1" + (
+            f" (instead of minutes; default {task.runs})." if task.by_minutes else "."
+        )
+        default = None if task.by_minutes else task.runs
+        out["runs"] = (
+            Annotated[int | None, typer.Option(help=help_text, show_default=default is not None)],
+            default,
+        )
+    return out
+
+
+def _task_options(task) -> dict:
+    """The options of the task's own settings (``TrialTask.options``)."""
+    return {
+        o.field: (
+            Annotated[o.type | None, typer.Option(o.flag, help=o.help, show_default=False)],
+            None,
+        )
+        for o in task.options
+    }
+
+
+def _trial_command(task):
+    """``mimic trial NAME`` for a task: its options are the ones every trial has, its budget
+    (``--minutes``/``--runs``) and its own settings (``TrialTask.options``)."""
+    params = {
+        **_COMMON_OPTIONS,
+        **_budget_options(task),
+        **_RUN_OPTIONS,
+        **(_SPEED_OPTIONS if task.speed_command else {}),
+        **_OUTPUT_OPTIONS,
+        **_task_options(task),
+    }
+
+    def command(**given) -> None:
+        _play_trial(task, given)
+
+    command.__signature__ = inspect.Signature(
+        [
+            inspect.Parameter(name, inspect.Parameter.KEYWORD_ONLY, default=d, annotation=a)
+            for name, (a, d) in params.items()
+        ]
     )
-    _dashboard(result, save, rerun, force)
+    command.__annotations__ = {name: a for name, (a, _) in params.items()}
+    command.__doc__ = task.summary
+    command.__name__ = task.name
+    return reports_errors(command)
 
 
-@trial_app.command("walk")
-@reports_errors
-def walk(
-    variants: Annotated[list[str] | None, _VARIANTS] = None,
-    compare: Annotated[bool, _COMPARE] = False,
-    motion: Annotated[str | None, _MOTION] = None,
-    model: Annotated[str | None, _MODEL] = None,
-    minutes: Annotated[
-        float | None, typer.Option(help="Simulated minutes per variant, > 0.", show_default=False)
-    ] = None,
-    runs: Annotated[
-        int | None,
-        typer.Option(
-            help="Runs per variant, >= 1 (instead of minutes; default 10).", show_default=False
-        ),
-    ] = None,
-    seed: Annotated[int, _SEED] = 0,
-    workers: Annotated[int | None, WORKERS] = None,
-    balance: Annotated[
-        bool, typer.Option(help="Wrap learned motions in balance feedback.")
-    ] = False,
-    speed_rate: Annotated[
-        float, typer.Option(help="Phase-rate multiplier for learned cyclic motions, > 0.")
-    ] = 1.0,
-    vx: Annotated[
-        float | None,
-        typer.Option(
-            "--vx",
-            help="Forward speed command \\[m/s] for every variant that takes one (learned walks, "
-            "the other team's walks); default: each its own.",
-            show_default=False,
-        ),
-    ] = None,
-    out: Annotated[
-        Path | None, typer.Option("--out", "-o", help="Parquet file of every run.")
-    ] = None,
-    save: Annotated[Path | None, typer.Option("--save", help=_SAVE_HELP)] = None,
-    save_old: Annotated[Path | None, SAVE_OLD] = None,
-    rerun: Annotated[bool, _RERUN] = False,
-    force: Annotated[bool, FORCE] = False,
-    ray: Annotated[bool, RAY] = False,
-    ray_address: Annotated[str | None, RAY_ADDRESS] = None,
-    world: Annotated[str, WORLD] = "mujoco",
-    robot: Annotated[str | None, ROBOT] = None,
-    disturb: Annotated[str | None, DISTURB] = None,
-) -> None:
-    """Walk trial from a standing start, straight ahead (our world: own goal line to centre
-    line, 15 m; the league: 10 m through the centre spot), repeated."""
-    from mimic.tasks.walk import WalkTrialConfig
-    from mimic.trials.api import walk_trial
+def _play_trial(task, given: dict) -> None:
+    """One trial command: the variants, the task's config from the options, every check
+    before the first episode, the episodes with a progress bar, the table and the files."""
+    from mimic.trials.api import run_trial
     from mimic.world.registry import world_kind
 
-    save = save_path(save, save_old)
+    save = save_path(given["save"], given["save_old"])
+    minutes, runs = given.get("minutes"), given.get("runs")
     if minutes is not None and runs is not None:
         raise MimicError("give --minutes or --runs, not both")
-    world = world_kind(world)
-    robot = _trial_robot(robot, world, [*(variants or []), motion, model])
+    if minutes is None and runs is None:
+        runs = task.runs
+    world = world_kind(given["world"])
+    names = [*(given["variants"] or []), given["motion"], given["model"]]
+    robot = _trial_robot(given["robot"], world, names)
+    settings = {o.field: given[o.field] for o in task.options if given[o.field] is not None}
+    config = task.Config(world=world, disturb=_disturb(given["disturb"], world), **settings)
+    vx = given.get("vx")
     specs = _specs(
-        variants,
-        compare,
-        motion,
-        model,
-        balance,
-        speed_rate,
-        "walk" if robot == "nao" else "other-team-walk",
+        given["variants"],
+        given["compare"],
+        given["motion"],
+        given["model"],
+        given["balance"],
+        given.get("speed_rate", 1.0),
+        task.default_variant(robot, config),
         robot,
         None if vx is None else options.finite(vx, "--vx", above=0),
     )
-    if minutes is None and runs is None:
-        runs = 10
-    config = WalkTrialConfig(world=world, disturb=_disturb(disturb, world))
+    seed, workers, force = given["seed"], given["workers"], given["force"]
     _check(
-        "walk",
+        task.name,
         specs,
-        out,
+        given["out"],
         save,
         force,
-        rerun,
+        given["rerun"],
         minutes=minutes,
         runs=runs,
         seed=seed,
@@ -469,93 +468,25 @@ def walk(
         config=config,
     )
     with (
-        open_executor(workers, ray, ray_address) as executor,
+        open_executor(workers, given["ray"], given["ray_address"]) as executor,
         TrialProgress(minutes, runs) as progress,
     ):
-        result = walk_trial(
+        result = run_trial(
+            task,
             specs,
             minutes=minutes,
             runs=runs,
             seed=seed,
             executor=executor,
-            out=out,
+            out=given["out"],
             progress=progress,
-            trace=bool(save or rerun),
+            trace=bool(save or given["rerun"]),
             overwrite=force,
             config=config,
         )
-    start_x, finish_x = config.course_m()
-    _print(
-        result,
-        f"walk trial ({finish_x - start_x:g} m from a standing start), "
-        f"{_minutes_text(result, minutes) + ', ' if minutes else ''}seed {seed}; "
-        f"{_world_text(result)}",
-    )
-    _dashboard(result, save, rerun, force)
-
-
-@trial_app.command("getup")
-@reports_errors
-def getup(
-    variants: Annotated[list[str] | None, _VARIANTS] = None,
-    compare: Annotated[bool, _COMPARE] = False,
-    motion: Annotated[str | None, _MOTION] = None,
-    model: Annotated[str | None, _MODEL] = None,
-    runs: Annotated[int, typer.Option(help="Runs per variant, >= 1.")] = 10,
-    side: Annotated[
-        str | None,
-        typer.Option(
-            help="Lay the robot on its front or back (default: the side each get-up starts from).",
-            show_default=False,
-        ),
-    ] = None,
-    seed: Annotated[int, _SEED] = 0,
-    workers: Annotated[int | None, WORKERS] = None,
-    balance: Annotated[
-        bool, typer.Option(help="Wrap learned motions in balance feedback.")
-    ] = False,
-    out: Annotated[
-        Path | None, typer.Option("--out", "-o", help="Parquet file of every run.")
-    ] = None,
-    save: Annotated[Path | None, typer.Option("--save", help=_SAVE_HELP)] = None,
-    rerun: Annotated[bool, _RERUN] = False,
-    force: Annotated[bool, FORCE] = False,
-    ray: Annotated[bool, RAY] = False,
-    ray_address: Annotated[str | None, RAY_ADDRESS] = None,
-    world: Annotated[str, WORLD] = "mujoco",
-    robot: Annotated[str | None, ROBOT] = None,
-    disturb: Annotated[str | None, DISTURB] = None,
-) -> None:
-    """Get-up trial: the robot knocked down on its front or back gets up; success rate and
-    time to stand, repeated."""
-    from mimic.tasks.getup import GetupTrialConfig
-    from mimic.trials.api import getup_trial
-    from mimic.world.registry import default_robot, world_kind
-
-    world = world_kind(world)
-    robot = robot or default_robot(world)
-    specs = _specs(
-        variants, compare, motion, model, balance, 1.0, f"getup_{side or 'front'}", robot
-    )
-    config = GetupTrialConfig(side=side, world=world, disturb=_disturb(disturb, world))
-    _check("getup", specs, out, save, force, runs=runs, seed=seed, workers=workers, config=config)
-    with (
-        open_executor(workers, ray, ray_address) as executor,
-        TrialProgress(None, runs) as progress,
-    ):
-        result = getup_trial(
-            specs,
-            runs=runs,
-            seed=seed,
-            executor=executor,
-            out=out,
-            progress=progress,
-            trace=bool(save or rerun),
-            overwrite=force,
-            config=config,
-        )
-    _print(result, f"get-up trial, {runs} runs per variant, seed {seed}; {_world_text(result)}")
-    _dashboard(result, save, rerun, force)
+    budget = _minutes_text(result, minutes) if minutes else f"{runs} runs per variant"
+    _print(result, f"{task.title(config)}, {budget}, seed {seed}; {_world_text(result)}", config)
+    _dashboard(result, save, given["rerun"], force)
 
 
 def _bench_league(
@@ -590,6 +521,10 @@ def _bench_league(
 
 
 def register(app: typer.Typer) -> None:
+    from mimic.tasks.registry import TASKS
+
+    for task in TASKS.values():
+        trial_app.command(task.name)(_trial_command(task))
     app.add_typer(trial_app, name="trial")
     from mimic.cli.train import bench_app
 

@@ -26,6 +26,7 @@ from typing import Any, ClassVar
 from mimic.agents.registry import AgentSpec
 
 __all__ = [
+    "TaskOption",
     "Column",
     "Dashboard",
     "EpisodeBatch",
@@ -121,12 +122,35 @@ class Dashboard:
         return (*self.curves, *rate)
 
 
+@dataclass(frozen=True)
+class TaskOption:
+    """A setting of a task's config that its trial command offers: ``mimic trial NAME
+    FLAG VALUE`` sets the config's ``field`` (a value of ``type``; not given: the config's
+    default)."""
+
+    field: str
+    flag: str
+    help: str
+    type: type = float
+
+
 class TrialTask:
     """A trial's scenario (module docstring). Subclasses set the class attributes and
     implement ``run_episode`` and ``summarise``; the rest has defaults."""
 
     #: The name trials, improve and the CLI know it by.
     name: ClassVar[str]
+    #: What the trial does, in a sentence (its command's help).
+    summary: ClassVar[str]
+    #: Its budget: by simulated minutes (default ``minutes``), by runs (default ``runs``), or
+    #: either (``minutes`` None and ``runs`` set: runs unless minutes are given).
+    minutes: ClassVar[float | None] = None
+    runs: ClassVar[int | None] = 10
+    by_minutes: ClassVar[bool] = False
+    #: The config's settings its command offers as options.
+    options: ClassVar[tuple[TaskOption, ...]] = ()
+    #: Its variants take a speed command (``--vx``) and a phase rate (``--speed-rate``).
+    speed_command: ClassVar[bool] = False
     #: The frozen settings of one episode (with ``world``, ``disturb`` and ``trace`` fields).
     Config: ClassVar[type]
     #: The score ``mimic improve`` maximises (a frozen dataclass with ``trial_config``).
@@ -175,6 +199,11 @@ class TrialTask:
         return f"{len(batch.episodes)} runs" if minutes else ""
 
     @classmethod
-    def progress_total(cls, minutes: float | None, runs: int | None) -> float:
-        """The progress bar's total: simulated minutes, else runs."""
-        return minutes or runs
+    def default_variant(cls, robot: str, config) -> str:
+        """The variant a trial plays when given none (an agent or motion name)."""
+        raise NotImplementedError
+
+    @classmethod
+    def title(cls, config) -> str:
+        """The table's title before its budget and seed: ``kick trial``."""
+        return f"{cls.name} trial"

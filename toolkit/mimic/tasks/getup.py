@@ -30,6 +30,7 @@ from mimic.tasks.base import (
     Column,
     Dashboard,
     EpisodeBatch,
+    TaskOption,
     TrialTask,
     as_row,
     ci_columns,
@@ -296,6 +297,18 @@ class GetupTask(TrialTask):
     """The get-up trial (module docstring)."""
 
     name = "getup"
+    summary = (
+        "Get-up trial: the robot knocked down on its front or back gets up; success rate "
+        "and time to stand, repeated."
+    )
+    options = (
+        TaskOption(
+            "side",
+            "--side",
+            "Lay the robot on its front or back (default: the side each get-up starts from).",
+            str,
+        ),
+    )
     Config = GetupTrialConfig
     Objective = GetupObjective
     validation_episodes = 20
@@ -323,6 +336,14 @@ class GetupTask(TrialTask):
     )
     run_episode = staticmethod(run_getup_episode)
     summarise = staticmethod(getup_summary)
+
+    @classmethod
+    def default_variant(cls, robot: str, config: GetupTrialConfig) -> str:
+        return f"getup_{config.side or 'front'}"
+
+    @classmethod
+    def title(cls, config: GetupTrialConfig) -> str:
+        return "get-up trial"
 
     @classmethod
     def check(cls, config: GetupTrialConfig, specs: list[AgentSpec]) -> None:

@@ -31,6 +31,7 @@ from mimic.tasks.base import (
     Column,
     Dashboard,
     EpisodeBatch,
+    TaskOption,
     TrialTask,
     as_row,
     ci_columns,
@@ -525,6 +526,21 @@ class KickTask(TrialTask):
     """The kick trial (module docstring)."""
 
     name = "kick"
+    summary = (
+        "Kick trial: kick toward the goal, reach the ball (walk there, or be placed behind "
+        "it), kick again until a goal; repeat."
+    )
+    minutes = 30.0
+    runs = None
+    by_minutes = True
+    options = (
+        TaskOption(
+            "success_distance_m",
+            "--success-m",
+            "A kick succeeds when the ball travels farther than this \\[m]; default: the "
+            "study's 2 m. Give a shorter kick its own (e.g. 0.5 for a 1 m kick).",
+        ),
+    )
     Config = KickTrialConfig
     Objective = KickObjective
     event = "kick"
@@ -568,6 +584,10 @@ class KickTask(TrialTask):
         options.finite(config.success_distance_m, "--success-m", at_least=0)
         for spec in specs:
             reach_method(config, spec.robot)
+
+    @classmethod
+    def default_variant(cls, robot: str, config: KickTrialConfig) -> str:
+        return "kick_right"
 
     @classmethod
     def check_variant(cls, spec: AgentSpec) -> None:

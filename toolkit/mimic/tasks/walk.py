@@ -252,6 +252,12 @@ class WalkTask(TrialTask):
     """The walk trial (module docstring)."""
 
     name = "walk"
+    summary = (
+        "Walk trial from a standing start, straight ahead (our world: own goal line to centre "
+        "line, 15 m; the league: 10 m through the centre spot), repeated."
+    )
+    by_minutes = True
+    speed_command = True
     Config = WalkTrialConfig
     Objective = WalkObjective
     validation_episodes = 40
@@ -280,3 +286,13 @@ class WalkTask(TrialTask):
     )
     run_episode = staticmethod(run_walk_episode)
     summarise = staticmethod(walk_summary)
+
+    @classmethod
+    def default_variant(cls, robot: str, config: WalkTrialConfig) -> str:
+        """Our walk engine on the NAO, the other team's walk on a league robot."""
+        return "walk" if robot == "nao" else "other-team-walk"
+
+    @classmethod
+    def title(cls, config: WalkTrialConfig) -> str:
+        start_x, finish_x = config.course_m()
+        return f"walk trial ({finish_x - start_x:g} m from a standing start)"
