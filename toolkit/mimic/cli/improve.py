@@ -14,14 +14,13 @@ from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 from mimic.cli.common import FORCE, ROBOT, SUCCESS_M, WORLD, console, reports_errors
 from mimic.cli.executor_options import RAY, RAY_ADDRESS, WORKERS, check_workers
 from mimic.errors import MimicError
+from mimic.tasks.registry import TASKS, get_task
 
 __all__ = ["register"]
 
 
-class ObjectiveName(str, Enum):
-    kick = "kick"
-    walk = "walk"
-    getup = "getup"
+#: The objectives: every trial task's (``tasks.registry``).
+ObjectiveName = Enum("ObjectiveName", {name: name for name in TASKS}, type=str)
 
 
 class Pick(str, Enum):
@@ -170,7 +169,6 @@ def _improve(
     from mimic.files import check_outputs, spec_files
     from mimic.improve import improve
     from mimic.improve.objectives import make_objective
-    from mimic.tasks.registry import get_task
     from mimic.trials.executors import RAY_LOCAL
 
     if budget <= 0:
