@@ -161,9 +161,8 @@ class HeadingGains:
     yaw_gain: float = 0.35
     # Heading aimed back at the start line per metre of sideways offset [rad/m].
     line_gain: float = 1.5
-    # Largest turn per step [rad] and largest aim off the start heading [rad]. (Line gain and
-    # turn raised from 0.75 and 0.05: the learned walk's 5 m test walks over 16 seeds then end
-    # at most 0.37 m off the line instead of 1.58 m; see docs/tuning-notes.md.)
+    # Largest turn per step [rad] and largest aim off the start heading [rad] (how the line
+    # gain and the turn were chosen: docs/tuning-notes.md, "Heading and line hold").
     max_turn_rad: float = 0.08
     max_aim_rad: float = 0.3
     # A turn every step learns to hold against a copy that turns by itself (its recording's
