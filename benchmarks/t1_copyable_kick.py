@@ -40,7 +40,6 @@ import json
 import math
 import subprocess
 import time
-from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 
 import numpy as np
@@ -53,6 +52,7 @@ from mimic.agents.table_player import TablePlayer
 from mimic.motion.files import format_motion, load_motion
 from mimic.motion.keyframe import KeyframeStep, Movement
 from mimic.robot.registry import get_robot
+from mimic.trials.executors import make_executor
 
 #: kick_right's keyframes (0-based, inclusive) that move together: the weight shift, its
 #: forward lean, the wind-up, the swing, the foot back (``motion/motions/t1/kick_right.txt``).
@@ -194,15 +194,14 @@ def search(args) -> None:
         population_size=args.population,
     )
     best, t0 = -math.inf, time.time()
-    with ProcessPoolExecutor(2) as pool:
+    # Two processes (capped at the cores there are); results come back in candidate order.
+    with make_executor(workers=2) as pool:
         for gen in range(args.generations):
             zs = [es.ask() for _ in range(args.population)]
             if gen == 0:
                 zs[0] = start.copy()
             seeds = list(range(1000 + 100 * gen, 1000 + 100 * gen + args.seeds))
-            results = list(
-                pool.map(_evaluate, [(list(z), args.world, seeds, args.cap) for z in zs])
-            )
+            results = pool.map(_evaluate, [(list(z), args.world, seeds, args.cap) for z in zs])
             es.tell([(z, -s) for z, (s, _) in zip(zs, results)])
             i = int(np.argmax([s for s, _ in results]))
             if results[i][0] > best:
