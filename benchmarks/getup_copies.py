@@ -5,7 +5,7 @@ with ``mimic train`` and tried against the originals in ``mimic trial getup``.
     python benchmarks/getup_copies.py [--out DIR] [--robot t1|nao] [--side front|back]
         [--runs 10] [--seed 1000] [--budget 100] [--workers 2]
 
-Each step is what a user would type (``league_record.record_black_box`` stands for the two
+Each step is what a user would type (``shared.record_black_box`` stands for the two
 processes of the README's league block: the motion played on a server while ``mimic record
 --server`` records it from the monitor stream):
 
@@ -30,14 +30,12 @@ Seeds: development used trial seed 0 and improve seed 3; the reported tables use
 from __future__ import annotations
 
 import argparse
-import sys
 from pathlib import Path
 
-sys.path.insert(0, str(Path(__file__).parent))
-from league_record import mimic, record_black_box  # noqa: E402
+from shared import mimic, record_black_box
 
-from mimic.agents.registry import agent_spec  # noqa: E402
-from mimic.episode import Scene  # noqa: E402
+from mimic.agents.registry import agent_spec
+from mimic.episode import Scene
 
 #: Longest a get-up plays while recorded [s] (the T1's back get-up takes 10.3 s).
 PLAY_S = 14.0

@@ -25,18 +25,21 @@ from pathlib import Path
 
 import numpy as np
 
-from mimic.agents.base import Agent, JointCommand
+from mimic.agents.base import Agent
 from mimic.agents.keyframe_player import KeyframePlayer
 from mimic.agents.neural_player import NeuralPlayer
-from mimic.episode import Episode, FallCounter, Observer, PoseNoise, Scene
+from mimic.agents.table_player import TablePlayer
+from mimic.episode import Observer, PoseNoise
 from mimic.learn.train import TARGET_REACHED, TrainConfig, train_model, training_dataset
 from mimic.model.model_file import load_model, save_model
 from mimic.motion.files import load_motion
 from mimic.recording.layout import JOINT_STATES
 from mimic.recording.recorder import record
 from mimic.robot.nao import nao
+from mimic.tasks import kick_from_stand
+from mimic.tasks.kick_from_stand import After, KickFromStandConfig
 from mimic.world.base import CYCLE_S
-from mimic.world.mujoco_world import MujocoWorld
+from mimic.world.registry import MUJOCO, open_world
 
 MOTION, KICKING, SUPPORT = "kick_right", "right", "left"
 CLOSE_RAD = 0.03
@@ -52,47 +55,27 @@ class _Reached(Observer):
         self.angles.append(obs.joint_angles_rad)
 
 
-class TablePlayer(Agent):
-    """Tracks a table of joint references, one row per cycle (no network)."""
-
-    name = "reference table"
-
-    def __init__(self, references_rad: np.ndarray) -> None:
-        super().__init__()
-        self.references_rad = references_rad
-        self._i = 0
-
-    def reset(self, obs) -> None:
-        self._i, self.done = 0, False
-
-    def act(self, obs) -> JointCommand:
-        row = self.references_rad[min(self._i, len(self.references_rad) - 1)]
-        self._i += 1
-        self.done = self._i >= len(self.references_rad)
-        # Exposed, as every reference-playing agent does, for the balance layer to correct.
-        self.reference_rad = row
-        return JointCommand.references(row)
-
-
 def play(agent: Agent, offset_m, seed: int | None = None) -> tuple[np.ndarray, float, int]:
     """(reached angles per cycle, ball distance [m], falls) of one kick from standing behind
-    the ball; with ``seed``: 0.01 rad start-pose noise and 2 s standing after the motion."""
-    world = MujocoWorld()
-    noise = PoseNoise(joint_rad=0.01 if seed is not None else 0.0)
-    Scene(ball_offset_m=tuple(offset_m), ball_after_settle=True, noise=noise).setup(
-        world, np.random.default_rng(seed or 0)
+    the ball (the ``kick-from-stand`` task at the centre spot, the ball placed after 0.5 s of
+    settling, followed for 6 s); with ``seed``: 0.01 rad start-pose noise and 2 s standing
+    after the motion."""
+    config = KickFromStandConfig(
+        robot_xy_m=(0.0, 0.0),
+        ball_offset_m=tuple(offset_m),
+        noise=PoseNoise(joint_rad=0.01 if seed is not None else 0.0),
+        settle_s=0.5,
+        ball_after_settle=True,
+        kick_max_s=6.0,
+        after=After.STAND,
+        after_s=2.0 if seed is not None else 0.0,
+        roll_max_s=None,
     )
-    start = world.ball_pos_m()
-    reached, falls = _Reached(), FallCounter()
-    episode = Episode(world, observers=(reached,), falls=falls)
-    episode.run(agent, max_s=6.0, abort_on_fall=False)
-    if seed is not None:
-        episode.stand_still(max_s=2.0)
-    return (
-        np.array(reached.angles),
-        float(np.linalg.norm(world.ball_pos_m() - start)),
-        falls.falls,
-    )
+    reached = _Reached()
+    with open_world(MUJOCO, "nao") as world:
+        outcome = kick_from_stand.play(world, agent, seed or 0, config, observers=(reached,))
+    moved = np.subtract(outcome.ball_end_m, outcome.ball_start_m)
+    return np.array(reached.angles), float(np.linalg.norm(moved)), outcome.falls
 
 
 def main() -> None:

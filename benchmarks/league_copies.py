@@ -4,7 +4,7 @@ the monitor stream, learned black-box, and tried against the originals in league
     python benchmarks/league_copies.py [--out DIR] [--only walk|kick] [--minutes 10]
         [--workers 2] [--kick-recordings 3] [--improve-budget 180]
 
-Each step is what a user would run (``league_record.record_black_box``, then the ``mimic``
+Each step is what a user would run (``shared.record_black_box``, then the ``mimic``
 command line):
 
 1. The other team plays on a server mimic hosts while ``mimic record --server`` records it:
@@ -36,14 +36,11 @@ import sys
 from pathlib import Path
 
 import numpy as np
+from shared import MIMIC, mimic, record_black_box, t1_scene
 
-sys.path.insert(0, str(Path(__file__).parent))
-from league_record import MIMIC, mimic, record_black_box  # noqa: E402
-from t1_copy_gain import _scene  # noqa: E402
-
-from mimic.agents.balance import with_balance_gains  # noqa: E402
-from mimic.agents.registry import agent_spec  # noqa: E402
-from mimic.model.model_file import load_model, save_model  # noqa: E402
+from mimic.agents.balance import with_balance_gains
+from mimic.agents.registry import agent_spec
+from mimic.model.model_file import load_model, save_model
 
 #: How long the walk is recorded, and where its steady part starts and ends [s of the
 #: recording]. The end stays clear of the recording's last second: there the other team's
@@ -74,7 +71,7 @@ def learn_walk(out: Path) -> list[str]:
     """Record the other team's walk and learn its copies; the trial's variants."""
     seen = out / "walk_seen.mcap"
     agent = agent_spec("other-team-walk", robot="t1").build()
-    record_black_box(agent, _scene("walk", "league", (3.0, 3.0)), seen, 0, WALK_RECORD_S)
+    record_black_box(agent, t1_scene("walk", "league", (3.0, 3.0)), seen, 0, WALK_RECORD_S)
     print(f"recorded the other team's walk: {seen}")
     for target, model in (("reached", "walk_reached.mimic"), ("compensated", "walk.mimic")):
         mimic(
@@ -94,7 +91,7 @@ def learn_kick(out: Path, recordings: int) -> list[str]:
     played_s = []
     for k, path in enumerate(seen):
         wait_cycles = int(np.random.default_rng([k, 7]).integers(0, 4)) if k else 0
-        scene = _scene("kick", "league", spec.ball_offset_m())
+        scene = t1_scene("kick", "league", spec.ball_offset_m())
         played_s.append(record_black_box(spec.build(), scene, path, k, 8.0, wait_cycles))
         print(f"recorded the other team's kick, seed {k}: {path} ({played_s[-1]:.2f} s)")
     end_s = played_s[0] + KICK_REST_S

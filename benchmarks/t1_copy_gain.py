@@ -19,98 +19,21 @@ the motion, holding its stand pose; a walk plays ``--seconds``.
 from __future__ import annotations
 
 import argparse
-import sys
-from pathlib import Path
 
 import numpy as np
 from rich.console import Console
 from rich.table import Table
+from shared import T1 as ROBOT
+from shared import monitor_view, per_cycle, play_t1
 
 from mimic.agents.balance import BalancedAgent, BalanceGains
 from mimic.agents.neural_player import NeuralPlayer
 from mimic.agents.registry import agent_spec
-from mimic.checks.motions import Perturbation
-from mimic.episode import Episode, FallCounter, Observer, Scene
-from mimic.geometry import in_robot_frame
+from mimic.agents.table_player import TablePlayer
 from mimic.learn.dataset import Dataset
 from mimic.learn.presets import get_preset
-from mimic.learn.train import TrainConfig, pd_compensated_targets, train_model
+from mimic.learn.train import TrainConfig, train_model
 from mimic.robot.registry import get_robot
-from mimic.tasks.walk import WalkTrialConfig, walk_scene
-from mimic.world.base import CYCLE_S
-from mimic.world.registry import open_world
-
-sys.path.insert(0, str(Path(__file__).parent))
-from kick_copies import TablePlayer  # noqa: E402
-
-ROBOT = "t1"
-#: Every second cycle: the league's monitor rate.
-SAMPLE_EVERY = 2
-
-
-class _Seen(Observer):
-    """Angles, torso position and orientation every cycle; when the robot first fell [s];
-    the ball in the torso's frame at the first cycle (x forward, y left [m]), where a
-    recording shows it to ``mimic train``."""
-
-    def __init__(self) -> None:
-        self.angles, self.pos, self.quat = [], [], []
-        self.fell_s: float | None = None
-        self.ball_offset_m: tuple[float, float] | None = None
-
-    def before_step(self, world, obs, agent, command) -> None:
-        if self.ball_offset_m is None:
-            ball = in_robot_frame(
-                world.ball_pos_m()[:2], world.torso_pos_m()[:2], world.torso_yaw_rad()
-            )
-            self.ball_offset_m = (float(ball[0]), float(ball[1]))
-        self.angles.append(obs.joint_angles_rad)
-        self.pos.append(world.torso_pos_m().copy())
-        self.quat.append(world.torso_quat_wxyz().copy())
-        if self.fell_s is None and world.fallen():
-            self.fell_s = len(self.angles) * CYCLE_S
-
-
-def _scene(motion: str, world_kind: str, offset_m) -> Scene:
-    if motion == "walk":
-        return walk_scene(WalkTrialConfig(world=world_kind))
-    return Scene(
-        robot_xy_m=(-8.0 - offset_m[0], -offset_m[1]),
-        ball_offset_m=tuple(offset_m),
-        noise=Perturbation().noise(),
-        settle_s=0.2,
-    )
-
-
-def play(agent, motion: str, world_kind: str, offset_m, seed: int, seconds: float):
-    """(observer, ball or torso distance [m], standing at the end) of one episode."""
-    with open_world(world_kind, ROBOT) as world:
-        _scene(motion, world_kind, offset_m).setup(world, np.random.default_rng(seed))
-        ball0, torso0 = world.ball_pos_m()[:2].copy(), world.torso_pos_m()[:2].copy()
-        seen, falls = _Seen(), FallCounter()
-        episode = Episode(world, observers=(seen,), falls=falls)
-        episode.run(agent, max_s=seconds, abort_on_fall=False)
-        if motion == "kick":
-            episode.stand_still(max_s=2.0)
-            distance = float(np.hypot(*(world.ball_pos_m()[:2] - ball0)))
-        else:
-            distance = float(world.torso_pos_m()[0] - torso0[0])
-        return seen, distance, falls.falls == 0 and not world.fallen()
-
-
-def monitor_view(seen: _Seen, robot, world_kind: str):
-    """(sample times [s], reached angles [rad], compensated references [rad]) of an episode
-    as the league's monitor shows it: every ``SAMPLE_EVERY``-th cycle."""
-    q = np.array(seen.angles)[::SAMPLE_EVERY]
-    pos, quat = np.array(seen.pos)[::SAMPLE_EVERY], np.array(seen.quat)[::SAMPLE_EVERY]
-    t = np.arange(len(q)) * CYCLE_S * SAMPLE_EVERY
-    return t, q, pd_compensated_targets(t, q, pos, quat, robot, world_kind)
-
-
-def per_cycle(t: np.ndarray, values: np.ndarray) -> np.ndarray:
-    """(T, N) ``values`` sampled at times ``t`` [s], interpolated to one row per cycle."""
-    cycles = np.arange(0, t[-1] + 1e-9, CYCLE_S)
-    return np.stack([np.interp(cycles, t, values[:, j]) for j in range(values.shape[1])], 1)
 
 
 def main() -> None:
@@ -135,7 +58,7 @@ def main() -> None:
     spec = agent_spec("kick_right" if args.motion == "kick" else "other-team-walk", robot=ROBOT)
     offset = spec.ball_offset_m() if args.motion == "kick" else (3.0, 3.0)
     seconds = 8.0 if args.motion == "kick" else args.seconds
-    seen, distance, standing = play(spec.build(), args.motion, args.world, offset, 0, seconds)
+    seen, distance, standing = play_t1(spec.build(), args.motion, args.world, offset, 0, seconds)
     t, q, comp = monitor_view(seen, robot, args.world)
 
     table = Table(
@@ -167,7 +90,7 @@ def main() -> None:
                 gains = BalanceGains(pitch, roll, pitch_rate_s, roll_rate_s, limit_rad=limit_rad)
                 agent = BalancedAgent(agent, gains=gains)
             agent.robot = ROBOT
-            outcomes.append(play(agent, args.motion, args.world, offset, seed, seconds))
+            outcomes.append(play_t1(agent, args.motion, args.world, offset, seed, seconds))
         distances = np.array([o[1] for o in outcomes])
         fell = [o[0].fell_s for o in outcomes if o[0].fell_s is not None]
         table.add_row(

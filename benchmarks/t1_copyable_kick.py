@@ -38,16 +38,21 @@ from __future__ import annotations
 import argparse
 import json
 import math
-import sys
+import subprocess
 import time
-from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 
 import numpy as np
+from shared import MIMIC, mimic, monitor_view, per_cycle, play_t1, record_black_box, t1_scene
 
-from mimic.motion.files import format_motion
-
-sys.path.insert(0, str(Path(__file__).parent))
+from mimic.agents.balance import BalancedAgent
+from mimic.agents.keyframe_player import KeyframePlayer
+from mimic.agents.registry import agent_spec
+from mimic.agents.table_player import TablePlayer
+from mimic.motion.files import format_motion, load_motion
+from mimic.motion.keyframe import KeyframeStep, Movement
+from mimic.robot.registry import get_robot
+from mimic.trials.executors import make_executor
 
 #: kick_right's keyframes (0-based, inclusive) that move together: the weight shift, its
 #: forward lean, the wind-up, the swing, the foot back (``motion/motions/t1/kick_right.txt``).
@@ -83,10 +88,6 @@ DIMENSIONS = len(PARAMETERS) + len(TIMED_STEPS)
 
 def movement(z: np.ndarray):
     """``kick_right`` changed by ``z`` (``DIMENSIONS`` numbers in the units above)."""
-    from mimic.motion.files import load_motion
-    from mimic.motion.keyframe import KeyframeStep, Movement
-    from mimic.robot.registry import get_robot
-
     robot, base = get_robot("t1"), load_motion("kick_right", "t1")
     steps = [np.array(s.angles_rad, dtype=float) for s in base.steps]
     times = [s.time_s for s in base.steps]
@@ -113,10 +114,6 @@ def movement(z: np.ndarray):
 
 def _copy_agent(rows: np.ndarray):
     """The compensated table tracked inside the T1's balance layer (default gains)."""
-    from kick_copies import TablePlayer
-
-    from mimic.agents.balance import BalancedAgent
-
     inner = TablePlayer(rows)
     inner.robot = "t1"
     agent = BalancedAgent(inner)
@@ -127,10 +124,6 @@ def _copy_agent(rows: np.ndarray):
 def kick_and_copy(z, world: str, seeds: list[int]) -> dict:
     """The candidate's kicks and its copy's over ``seeds`` (the first seed's kick is copied)."""
     import torch
-    from t1_copy_gain import monitor_view, per_cycle, play
-
-    from mimic.agents.keyframe_player import KeyframePlayer
-    from mimic.robot.registry import get_robot
 
     torch.set_num_threads(1)
     kick = movement(np.asarray(z, dtype=float))
@@ -139,13 +132,13 @@ def kick_and_copy(z, world: str, seeds: list[int]) -> dict:
     for seed in seeds:
         agent = KeyframePlayer(kick)
         agent.robot = "t1"
-        originals.append(play(agent, "kick", world, offset, seed, 8.0))
+        originals.append(play_t1(agent, "kick", world, offset, seed, 8.0))
     t, _, refs = monitor_view(originals[0][0], get_robot("t1"), world)
     rows = per_cycle(t, refs)
     # The copy stands where the recording shows the ball (as `mimic train` reads it), start
     # noise included, not where the original's motion file wants it.
     seen_offset = originals[0][0].ball_offset_m
-    copies = [play(_copy_agent(rows), "kick", world, seen_offset, seed, 8.0) for seed in seeds]
+    copies = [play_t1(_copy_agent(rows), "kick", world, seen_offset, seed, 8.0) for seed in seeds]
 
     def summary(runs):
         return dict(
@@ -201,15 +194,14 @@ def search(args) -> None:
         population_size=args.population,
     )
     best, t0 = -math.inf, time.time()
-    with ProcessPoolExecutor(2) as pool:
+    # Two processes (capped at the cores there are); results come back in candidate order.
+    with make_executor(workers=2) as pool:
         for gen in range(args.generations):
             zs = [es.ask() for _ in range(args.population)]
             if gen == 0:
                 zs[0] = start.copy()
             seeds = list(range(1000 + 100 * gen, 1000 + 100 * gen + args.seeds))
-            results = list(
-                pool.map(_evaluate, [(list(z), args.world, seeds, args.cap) for z in zs])
-            )
+            results = pool.map(_evaluate, [(list(z), args.world, seeds, args.cap) for z in zs])
             es.tell([(z, -s) for z, (s, _) in zip(zs, results)])
             i = int(np.argmax([s for s, _ in results]))
             if results[i][0] > best:
@@ -249,14 +241,6 @@ def validate(args) -> None:
 def black_box(args) -> None:
     """The candidate learned through ``mimic record --server`` and ``mimic train`` (module
     docstring), then the original and the copies kick over held-out seeds."""
-    import subprocess
-
-    from league_record import MIMIC, mimic, record_black_box
-    from t1_copy_gain import _scene, play
-
-    from mimic.agents.keyframe_player import KeyframePlayer
-    from mimic.agents.registry import agent_spec
-
     z, out = _candidate(args)
     kick = movement(z)
     model, offset = out / "copy.mimic", tuple(kick.ball_offset_m)
@@ -270,7 +254,7 @@ def black_box(args) -> None:
         wait_cycles = int(np.random.default_rng([k, 7]).integers(0, 4)) if k else 0
         agent = KeyframePlayer(kick)
         agent.robot = "t1"
-        record_black_box(agent, _scene("kick", "league", offset), path, k, 8.0, wait_cycles)
+        record_black_box(agent, t1_scene("kick", "league", offset), path, k, 8.0, wait_cycles)
         print(f"recorded seed {k}, kicking {wait_cycles} cycles after the set-down: {path}")
     merge = ["--merge"] if len(seen) > 1 else []
     said = mimic(
@@ -287,7 +271,7 @@ def black_box(args) -> None:
     ):
         spec = agent_spec(name, robot="t1")
         where = tuple(spec.ball_offset_m())
-        outcomes = [play(spec.build(), "kick", "league", where, seed, 8.0) for seed in seeds]
+        outcomes = [play_t1(spec.build(), "kick", "league", where, seed, 8.0) for seed in seeds]
         runs[label] = dict(
             distance_m=[o[1] for o in outcomes], standing=[bool(o[2]) for o in outcomes]
         )

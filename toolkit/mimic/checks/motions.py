@@ -1,58 +1,42 @@
 """Seeded physical outcome checks of our keyframe motions: kicks, get-ups, standing.
 
-Each check builds a fresh world for the motion's robot (our MuJoCo world; for a league robot on
-the league's field and ball) or uses the one it is given (``world=``: the league server's
-``LeagueWorld``), sets up a scene with small random perturbations drawn from
-``np.random.default_rng(seed)``, plays the motion with ``KeyframePlayer`` through the episode
-layer's ``run`` and reports what happened. Tests and benchmarks share these functions, so a rate
-printed by a benchmark is the rate the tests assert on.
+The kick and standing are the ``kick-from-stand`` and ``stand`` tasks (``mimic.tasks``) with
+the configs of these checks. Each check builds a fresh world for the motion's robot (our
+MuJoCo world; for a league robot on the league's field and ball) or uses the one it is given
+(``world=``: the league server's ``LeagueWorld``), sets up a scene with small random
+perturbations drawn from ``np.random.default_rng(seed)``, plays the motion with
+``KeyframePlayer`` through the episode layer's ``run`` and reports what happened. Tests and
+benchmarks share these functions, so a rate printed by a benchmark is the rate the tests
+assert on.
 """
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
 import numpy as np
 
-from mimic.agents.hold import HoldPose
 from mimic.agents.keyframe_player import KeyframePlayer
-from mimic.episode import PoseNoise, Scene, UprightLog, run
+from mimic.episode import Scene, UprightLog, run
 from mimic.episode.scene import SETTLE_S
 from mimic.errors import MotionFileError
-from mimic.motion.files import load_motion
 from mimic.motion.keyframe import Movement
+from mimic.tasks import kick_from_stand, stand
+from mimic.tasks.kick_from_stand import KickFromStandConfig, Standing
+from mimic.tasks.perturbation import NO_PERTURBATION, Perturbation
+from mimic.tasks.stand import StandConfig
 from mimic.world.base import CYCLE_S, World
 from mimic.world.mujoco_world import MujocoWorld
 
-__all__ = ["Perturbation", "KickOutcome", "GetupOutcome", "run_kick", "run_getup", "run_stand"]
-
-
-@dataclass(frozen=True)
-class Perturbation:
-    """Half-widths of the uniform noise added to a start pose (all zero: no noise)."""
-
-    # Every joint angle [deg].
-    joint_deg: float = 1.0
-    # Robot x and y [m].
-    position_m: float = 0.01
-    # Robot heading [deg].
-    yaw_deg: float = 2.0
-    # Ball x and y [m].
-    ball_m: float = 0.01
-
-    def noise(self) -> PoseNoise:
-        """The same as a scene's uniform pose noise."""
-        return PoseNoise(
-            position_m=self.position_m,
-            yaw_rad=math.radians(self.yaw_deg),
-            joint_rad=math.radians(self.joint_deg),
-            ball_m=self.ball_m,
-            distribution="uniform",
-        )
-
-
-NO_PERTURBATION = Perturbation(0.0, 0.0, 0.0, 0.0)
+__all__ = [
+    "Perturbation",
+    "NO_PERTURBATION",
+    "KickOutcome",
+    "GetupOutcome",
+    "run_kick",
+    "run_getup",
+    "run_stand",
+]
 
 
 @dataclass(frozen=True)
@@ -101,13 +85,15 @@ def run_kick(
     rest_speed_m_s: float = 0.01,
     world: World | None = None,
 ) -> KickOutcome:
-    """Stand the robot behind a ball at the motion's ``ball_offset_m``, kick, measure.
+    """Stand the robot behind a ball at the motion's ``ball_offset_m``, kick, measure: the
+    ``kick-from-stand`` task (``tasks.kick_from_stand``) with the keyframe check's config.
 
     The ball starts near ``ball_start_m`` (field frame [m]; far from the goals so it rolls
-    freely toward +x); the robot faces +x. After the motion the robot keeps the last keyframe;
-    the ball is followed until slower than ``rest_speed_m_s`` or ``max_time_s`` after the
-    motion start [s]. ``world``: where to kick (default: a fresh ``MujocoWorld`` of the
-    movement's robot).
+    freely toward +x); the robot faces +x. The motion's player holds its last keyframe for
+    ``after_s`` [s] itself (no after phase of the task), then "standing" is "not fallen";
+    the robot keeps the last keyframe while the ball is followed until slower than
+    ``rest_speed_m_s`` or ``max_time_s`` after the motion start [s]. ``world``: where to
+    kick (default: a fresh ``MujocoWorld`` of the movement's robot).
 
     Raises:
         MotionFileError: the movement has no ball offset.
@@ -118,35 +104,21 @@ def run_kick(
             "a kick needs one to place the ball"
         )
     p = perturbation if perturb else NO_PERTURBATION
-    off_x, off_y = movement.ball_offset_m
     world = world if world is not None else MujocoWorld(movement.robot)
-    Scene(
-        robot_xy_m=(ball_start_m[0] - off_x, ball_start_m[1] - off_y),
+    config = KickFromStandConfig(
+        ball_start_m=ball_start_m,
         ball_offset_m=movement.ball_offset_m,
         noise=p.noise(),
         settle_s=settle_s,
-    ).setup(world, np.random.default_rng(seed))
-    heading = world.torso_yaw_rad()
-    ball0 = world.ball_pos_m()[:2]
-
-    player = KeyframePlayer(movement, hold_s=after_s)
-    run(world, player, max_s=movement.duration_s + after_s + 1.0)
-    standing = not world.fallen()
-    # Then keep the last keyframe while the ball rolls to rest.
-    remaining = max(0.0, max_time_s - movement.duration_s - after_s)
-    run(
-        world,
-        HoldPose(movement.steps[-1].angles_rad, movement.robot),
-        max_s=remaining,
-        stop=lambda w: w.ball_speed_m_s() < rest_speed_m_s,
+        kick_max_s=movement.duration_s + after_s + 1.0,
+        after_s=0.0,
+        standing=Standing.NOT_FALLEN,
+        roll_max_s=max(0.0, max_time_s - movement.duration_s - after_s),
+        rest_speed_m_s=rest_speed_m_s,
+        hold_pose_rad=tuple(movement.steps[-1].angles_rad),
     )
-
-    moved = world.ball_pos_m()[:2] - ball0
-    distance = float(np.hypot(*moved))
-    forward = float(moved[0] * math.cos(heading) + moved[1] * math.sin(heading))
-    lateral = float(-moved[0] * math.sin(heading) + moved[1] * math.cos(heading))
-    direction = math.atan2(lateral, forward) if distance >= 0.05 else math.nan
-    return KickOutcome(distance, forward, direction, standing)
+    o = kick_from_stand.play(world, KeyframePlayer(movement, hold_s=after_s), seed, config)
+    return KickOutcome(o.distance_m, o.forward_m, o.direction_error_rad, o.standing)
 
 
 def run_getup(
@@ -199,17 +171,9 @@ def run_stand(
     duration_s: float, seed: int | None = None, robot: str = "nao", *, world: World | None = None
 ) -> bool:
     """Place the robot in its stand pose (perturbed if ``seed`` is given) and play ``stand``
-    held for ``duration_s`` [s]; True if it never fell. ``world``: where (default: a fresh
-    ``MujocoWorld`` of ``robot``)."""
+    held for ``duration_s`` [s]; True if it never fell (the ``stand`` task). ``world``:
+    where (default: a fresh ``MujocoWorld`` of ``robot``)."""
     world = world if world is not None else MujocoWorld(robot)
     noise = (Perturbation() if seed is not None else NO_PERTURBATION).noise()
-    Scene(noise=noise, settle_s=0.0).setup(world, np.random.default_rng(seed or 0))
-    log = UprightLog()
-    stand = load_motion("stand", world.robot.name)
-    run(
-        world,
-        KeyframePlayer(stand, hold_s=duration_s),
-        max_s=stand.duration_s + duration_s,
-        observers=(log,),
-    )
-    return not any(log.fallen) and not world.fallen()
+    config = StandConfig(duration_s=duration_s, noise=noise)
+    return stand.play(world, None, seed or 0, config).stood

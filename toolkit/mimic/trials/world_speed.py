@@ -1,12 +1,13 @@
 """How fast each world runs the same episode work: real-time factors in one run.
 
 The work is a kick trial's: the robot is placed behind the ball, stands, kicks, and stands
-while the ball rolls, again and again until ``seconds`` of simulated time have passed. Each
-world is timed from its first placement (``rtf``) and with its opening and closing included
-(``rtf_with_start``: for the hosted league server that is hosting and joining it, once per
-episode in a trial). CPU seconds count this process and, for the hosted server, the server
-process too. The baseline (``bench_bare``) is bare ``mj_step`` of the league's own model with
-the T1 standing in it: no agent, no world, nothing but MuJoCo.
+while the ball rolls (the ``kick-from-stand`` task without start noise), again and again
+until ``seconds`` of simulated time have passed. Each world is timed from its first
+placement (``rtf``) and with its opening and closing included (``rtf_with_start``: for the
+hosted league server that is hosting and joining it, once per episode in a trial). CPU
+seconds count this process and, for the hosted server, the server process too. The baseline
+(``bench_bare``) is bare ``mj_step`` of the league's own model with the T1 standing in it:
+no agent, no world, nothing but MuJoCo.
 
     rows = bench_worlds(seconds=20)
     print(format_world_speeds(rows))
@@ -23,8 +24,12 @@ from pathlib import Path
 import mujoco
 import numpy as np
 
+from mimic.agents.keyframe_player import KeyframePlayer
 from mimic.agents.registry import agent_spec
-from mimic.episode import Episode, Scene
+from mimic.episode import PoseNoise, Scene
+from mimic.motion.files import load_motion
+from mimic.tasks import kick_from_stand
+from mimic.tasks.kick_from_stand import After, KickFromStandConfig
 from mimic.world.base import CYCLE_S
 from mimic.world.registry import LEAGUE, LEAGUE_SERVER, MUJOCO, open_world
 
@@ -43,6 +48,8 @@ BARE = "bare"
 
 #: Seconds one kick cycle lasts at most: stand, kick, stand while the ball rolls [s].
 _STAND_S, _KICK_MAX_S, _ROLL_S = 0.5, 6.0, 3.0
+#: Without a kick the robot stands this long in its place [s].
+_STAND_ONLY_S = 1.5
 
 
 @dataclass(frozen=True)
@@ -113,34 +120,37 @@ def bench_world(
     robot only stands) in ``world``."""
     spec = agent_spec(kick, robot=robot) if kick else None
     offset = spec.ball_offset_m() if spec else (0.3, 0.0)
-    rng = np.random.default_rng(seed)
+    config = KickFromStandConfig(
+        robot_xy_m=(-offset[0], -offset[1]),
+        ball_offset_m=tuple(offset),
+        noise=PoseNoise(),
+        settle_s=_STAND_S,
+        ball_after_settle=True,
+        settle_into_stand=True,
+        kick_max_s=_KICK_MAX_S if spec is not None else _STAND_ONLY_S,
+        abort_on_fall=True,
+        after=After.STAND_OR_LIMP,
+        after_s=_ROLL_S,
+        roll_max_s=None,
+    )
     t0 = time.perf_counter()
     with open_world(world, robot) as w:
         opened_s = time.perf_counter() - t0
-        episode = Episode(w)
-        scene = Scene(
-            robot_xy_m=(-offset[0], -offset[1]),
-            ball_offset_m=tuple(offset),
-            ball_after_settle=True,
-            settle_s=_STAND_S,
-            settle_into_stand=True,
-        )
         cpu0, t1, simulated = _cpu_s(w), time.perf_counter(), 0.0
         while simulated < seconds:
-            scene.setup(w, rng)
-            if spec is not None:
-                episode.run(spec.build(), max_s=_KICK_MAX_S)
-            else:
-                episode.stand_still(max_s=1.5)
-            if w.fallen():
-                episode.wait_limp(max_s=_ROLL_S)
-            else:
-                episode.stand_still(max_s=_ROLL_S)
+            # Without start noise every episode is the same; the seed changes nothing.
+            agent = spec.build() if spec is not None else _stand_agent(robot)
+            kick_from_stand.play(w, agent, seed, config)
             simulated += w.time_s
         wall, cpu = time.perf_counter() - t1, _cpu_s(w) - cpu0
         t2 = time.perf_counter()
     closed_s = time.perf_counter() - t2
     return WorldSpeed(world, robot, kick or "stand", simulated, wall, opened_s + closed_s, cpu)
+
+
+def _stand_agent(robot: str) -> KeyframePlayer:
+    """The robot moving into its stand pose and holding it (a kick trial's standing)."""
+    return KeyframePlayer(load_motion("stand", robot), hold_s=math.inf)
 
 
 def bench_bare(robot: str = "t1", *, seconds: float = 20.0) -> WorldSpeed:
