@@ -17,8 +17,8 @@ import numpy as np
 
 from mimic.agents.base import Agent
 from mimic.episode import Episode, Scene
-from mimic.league.world import LeagueWorld
 from mimic.world.base import CYCLE_S
+from mimic.world.league_server import LeagueWorld
 
 #: The ``mimic`` command of the running interpreter's environment.
 MIMIC = str(Path(sys.executable).with_name("mimic"))
