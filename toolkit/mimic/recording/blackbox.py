@@ -1,7 +1,7 @@
 """Black-box recording: another team's player, seen only through the server's monitor stream.
 
 As in the study (which watched SimSpark's monitor), nothing of the team's code is read: the
-monitor shows every body of every robot, ``decode`` turns one player's bodies back into its
+monitor shows every body of every robot, ``league.decode`` turns one player's bodies back into its
 joint angles, and ``PlayerWriter`` writes them in our layout. Works on a server running a match
 in real time or in sync mode; waits for the player to appear. The player leaving ends a recording
 normally; Ctrl-C or the server stopping end it early, the file finished and saying so; a crash

@@ -1,9 +1,8 @@
 """Game logs: ``rcssservermj --logfile`` writes every monitor frame as one line of RSMP.
 
 ``import_game_log`` turns one player of a log into a recording (the same decoding as the live
-monitor, ``mimic.recording.blackbox``); ``import_game_log_all`` writes one recording per player. A
-log cut off or still being written yields every complete frame (a partial last line is
-skipped).
+monitor, ``recording.blackbox``); ``import_game_log_all`` writes one recording per player. A log
+cut off or still being written yields every complete frame (a partial last line is skipped).
 
 A log is untrusted input: a malformed line is skipped and counted, a line longer than
 ``MAX_MESSAGE_BYTES`` too, and a team name becomes a file name only through ``safe_stem`` (never
