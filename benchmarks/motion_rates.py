@@ -27,7 +27,7 @@ KICK_MIN_DISTANCE_M = 3.0
 def main(runs: int = 10, robot: str = "nao", league: bool = False) -> None:
     world = None
     if league:
-        from mimic.league.world import LeagueWorld
+        from mimic.world.league_server import LeagueWorld
 
         world = LeagueWorld(robot)
     where = "the league server" if league else "our MuJoCo world"

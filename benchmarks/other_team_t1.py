@@ -82,7 +82,7 @@ def _world(name: str):
     if name == "league-like":
         return league_like_world(), OneCycleLate
     if name == "league":
-        from mimic.league.world import LeagueWorld, LeagueWorldConfig
+        from mimic.world.league_server import LeagueWorld, LeagueWorldConfig
 
         return LeagueWorld(
             "t1", config=LeagueWorldConfig(team="Others", player=2)

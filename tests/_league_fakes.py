@@ -14,8 +14,8 @@ from pathlib import Path
 import numpy as np
 
 from mimic.league.server import LeagueServer, ServerConfig
-from mimic.league.world import LeagueWorld, LeagueWorldConfig
 from mimic.robot.actuators import JointCommand
+from mimic.world.league_server import LeagueWorld, LeagueWorldConfig
 
 _LENGTH = struct.Struct(">I")
 

@@ -214,7 +214,7 @@ def test_the_dashboard_shows_each_push_of_the_replayed_run(tmp_path, rerun_cli):
 
 
 def test_the_league_world_in_process_takes_pushes_and_the_physics_spreads():
-    from mimic.league.inprocess import LeagueInProcessWorld
+    from mimic.world.league_inprocess import LeagueInProcessWorld
 
     with LeagueInProcessWorld("t1") as world:
         nominal = world.robot_mass_kg()

@@ -19,9 +19,9 @@ from _league_helpers import T1, mimic_command
 from typer.testing import CliRunner
 
 from mimic.cli.main import app
-from mimic.league.blackbox import list_players, record_player
 from mimic.league.server import LeagueServer, ServerConfig, free_port
 from mimic.recording import layout as L
+from mimic.recording.blackbox import list_players, record_player
 from mimic.recording.reader import read_joint_table, read_recording
 
 runner = CliRunner()

@@ -37,13 +37,13 @@ from typer.testing import CliRunner
 
 from mimic.cli.main import app
 from mimic.episode import Scene, run
+from mimic.league.field import league_air
 from mimic.league.server import LeagueServer
-from mimic.league.world import LeagueWorld, LeagueWorldConfig
 from mimic.motion.files import list_motions
 from mimic.recording import layout as L
 from mimic.recording.reader import read_joint_table, read_recording, read_tf
 from mimic.robot.actuators import JointCommand
-from mimic.world.league_field import league_air
+from mimic.world.league_server import LeagueWorld, LeagueWorldConfig
 
 TEAM, PLAYER = "decoders", 4
 MEAN_RAD, MAX_RAD, TORSO_M = 0.01, 0.03, 0.01

@@ -5,10 +5,11 @@ import xml.etree.ElementTree as ET
 import numpy as np
 import pytest
 
+from mimic.league.field import league_air, league_world_xml
 from mimic.robot.actuators import JointCommand
 from mimic.world.base import CYCLE_S
 from mimic.world.field import NAO_FIELD, field_for_robot
-from mimic.world.league_field import league_air, league_field, league_world_xml
+from mimic.world.league_field import league_field
 from mimic.world.mujoco_world import MujocoWorld
 from mimic.world.scene import scene_xml
 

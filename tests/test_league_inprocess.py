@@ -27,12 +27,12 @@ from mimic.cli.main import app
 from mimic.episode import Scene
 from mimic.episode.scene import SETTLE_S
 from mimic.league.client import format_command, parse_perception, wire_targets_rad
-from mimic.league.inprocess import LeagueInProcessWorld
 from mimic.league.names import wire_names
-from mimic.league.world import LeagueWorld
 from mimic.robot.actuators import JointCommand
 from mimic.robot.registry import get_robot
 from mimic.world.base import CYCLE_S
+from mimic.world.league_inprocess import LeagueInProcessWorld
+from mimic.world.league_server import LeagueWorld
 from mimic.world.registry import (
     LEAGUE,
     LEAGUE_SERVER,

@@ -17,13 +17,13 @@ from typer.testing import CliRunner
 
 from mimic.agents.base import JointCommand
 from mimic.cli.main import app
-from mimic.league.play import play
-from mimic.league.player_writer import PlayerWriter
 from mimic.league.server import LeagueServer, ServerConfig, free_port
-from mimic.league.world import LeagueWorld, LeagueWorldConfig
 from mimic.model.model_file import load_model
 from mimic.recording import layout as L
+from mimic.recording.player_writer import PlayerWriter
 from mimic.recording.reader import read_joint_table, read_recording, read_tf
+from mimic.team.play import play
+from mimic.world.league_server import LeagueWorld, LeagueWorldConfig
 
 runner = CliRunner()
 _one_line_error = one_line_error
@@ -264,7 +264,7 @@ def test_a_failed_recording_from_a_server_leaves_the_target_as_it_was(game, tmp_
 
 
 def test_a_failed_play_leaves_its_output_as_it_was(tmp_path, monkeypatch):
-    from mimic.league.play import PlayRecorder
+    from mimic.team.play import PlayRecorder
 
     target = tmp_path / "played.mcap"
     target.write_bytes(b"a good recording")

@@ -230,8 +230,8 @@ def test_import_all_takes_any_name(real, tmp_path):
 def test_a_stream_of_junk_messages_ends_the_wait_for_a_scene():
     """Small messages that are not frames: the wait for a scene has a deadline, and the error
     says how many malformed frames came."""
-    from mimic.league.blackbox import list_players
     from mimic.league.errors import LeagueConnectionError
+    from mimic.recording.blackbox import list_players
 
     junk = [b"(junk %d)" % k for k in range(20000)]
     with FakeMonitor(replay(junk, period_s=0.0005)) as fake:

@@ -9,8 +9,8 @@ import pytest
 
 from mimic.agents.registry import make_agent
 from mimic.episode import PoseTrace, Scene, run
-from mimic.league.world import LeagueWorld, LeagueWorldConfig
 from mimic.world.league_field import league_field
+from mimic.world.league_server import LeagueWorld, LeagueWorldConfig
 
 
 @pytest.fixture(scope="module")

@@ -126,7 +126,7 @@ def test_kick_moves_the_ball_and_the_robot_stays_up(world):
 
 
 def test_the_team_process_walks_and_stops_on_a_hosted_server(capsys):
-    from mimic.league.other_team_t1 import main
+    from mimic.team.other_team_t1 import main
 
     assert main(["--walk-s", "2.5", "--team", "Others", "--player", "4"]) == 0
     assert "Others #4: done" in capsys.readouterr().out
@@ -152,7 +152,7 @@ def test_walk_10_m_in_10_seeds_without_a_fall(world):
 
 @pytest.mark.slow
 def test_walk_10_m_in_the_league_without_a_fall():
-    from mimic.league.world import LeagueWorld, LeagueWorldConfig
+    from mimic.world.league_server import LeagueWorld, LeagueWorldConfig
 
     with LeagueWorld("t1", config=LeagueWorldConfig(team="Others", player=2)) as league:
         results = [

@@ -88,7 +88,7 @@ def test_t1_kick_sends_the_league_ball_3_m_and_stays_standing(name, seed):
 def test_t1_copyable_kick_sends_the_ball_3_m_in_the_league_and_stays_standing():
     # Found in the league's own server (benchmarks/t1_copyable_kick.py): measured there. Its
     # search scored distance, not direction: the ball leaves about 30 deg right of straight.
-    from mimic.league.world import LeagueWorld
+    from mimic.world.league_server import LeagueWorld
 
     with LeagueWorld("t1") as world:
         outcome = run_kick(load_motion("kick_right_copyable", "t1"), 0, world=world)
@@ -147,7 +147,7 @@ def test_t1_getup_rate_is_at_least_9_in_10(side):
 def test_t1_getups_stand_up_9_in_10_in_the_league():
     # The league server integrates differently (Euler, pyramidal cones, 100 iterations) and
     # plays each command one cycle late; one hosted server for all 20 get-ups.
-    from mimic.league.world import LeagueWorld
+    from mimic.world.league_server import LeagueWorld
 
     with LeagueWorld("t1") as league:
         upright = {

@@ -22,7 +22,7 @@ def _plain(console_, text: str) -> None:
 
 def _report(result) -> None:
     """One line per recording; a recording that ended early exits non-zero."""
-    from mimic.league.blackbox import who
+    from mimic.recording.blackbox import who
 
     what = (
         f"{who(result.team, result.player)} ({result.robot.upper()}): {result.samples} "
@@ -52,7 +52,7 @@ def record_server(
     agent: str | None,
 ) -> None:
     """``mimic record --server HOST:MONITOR_PORT ...``."""
-    from mimic.league.blackbox import describe_players, list_players, record_player, who
+    from mimic.recording.blackbox import describe_players, list_players, record_player, who
 
     if server is None:
         raise MimicError("--list needs --server HOST:MONITOR_PORT")
@@ -108,7 +108,7 @@ def import_log(
     force: bool = False,
 ) -> None:
     """``mimic import GAME.log --team NAME --player N -o out.mcap`` (or ``--all -o DIR``)."""
-    from mimic.league.game_log import import_game_log, import_game_log_all
+    from mimic.recording.game_log import import_game_log, import_game_log_all
 
     if every:
         if team is not None or player is not None:

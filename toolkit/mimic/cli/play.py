@@ -71,7 +71,7 @@ def register(app: typer.Typer) -> None:
 
         from mimic import options
         from mimic.files import check_output, claim_output, spec_files
-        from mimic.league.play import play as play_agent
+        from mimic.team.play import play as play_agent
 
         if not (settle >= 0 and settle < float("inf")):
             fail(f"--settle must be a finite number of seconds >= 0, got {settle}")
@@ -80,8 +80,8 @@ def register(app: typer.Typer) -> None:
             check_output(out, force=force, inputs=spec_files(agent))
         if vx is not None or server is not None:
             from mimic.agents.registry import agent_spec
-            from mimic.league.play import settle_note
             from mimic.robot.registry import get_robot
+            from mimic.team.play import settle_note
 
             if vx is not None:
                 options.finite(vx, "--vx", above=0)

@@ -304,7 +304,7 @@ def register(app: typer.Typer) -> None:
         recordings in our layout."""
         from mimic import options
         from mimic.files import check_output, input_file
-        from mimic.league.game_log import is_game_log
+        from mimic.recording.game_log import is_game_log
         from mimic.recording.paper_import import import_paper_file
         from mimic.recording.reader import describe_recording
 

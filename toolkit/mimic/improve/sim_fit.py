@@ -59,7 +59,7 @@ from mimic.model.motion_model import MotionModel
 from mimic.robot.registry import get_robot
 from mimic.tasks.walk import WalkTrialConfig, run_walk_episode
 from mimic.world.base import Observation
-from mimic.world.registry import LEAGUE_LIKE, MUJOCO
+from mimic.world.registry import get_world
 
 __all__ = [
     "SimFitConfig",
@@ -204,13 +204,14 @@ class SimFit:
 
 
 def sim_fit_world(recorded: Dataset) -> str:
-    """The simulated world a recording's copy is fitted in: the league-like one
-    (``world.league_like``) for a walk recorded in the league, ours for one recorded in ours.
-    A recording that does not say where it was made goes by its robot's world."""
+    """The simulated world a recording's copy is fitted in: the twin of the world it was
+    recorded in (``WorldSpec.twin``: the league-like one, ``world.league_like``, for a walk
+    recorded in the league, ours for one recorded in ours). A recording that does not say
+    where it was made goes by its robot's world."""
     where = recorded.metadata.get("recording_world")
     if where is None:
         where = get_robot(recorded.robot).world
-    return LEAGUE_LIKE if where == "league" else MUJOCO
+    return get_world(where).twin
 
 
 def fit_in_simulation(

@@ -29,10 +29,10 @@ import mujoco
 import numpy as np
 
 from mimic.league.errors import LeagueError
+from mimic.league.field import league_air
 from mimic.league.rsmp import SceneNode, SceneState, slt_matrix
 from mimic.league.untrusted import printable
 from mimic.robot.model import RobotDescription
-from mimic.world.league_field import league_air
 
 __all__ = ["PlayerDecoder", "PlayerSample", "robot_for_model", "check_model", "OFFSET_TOLERANCE_M"]
 

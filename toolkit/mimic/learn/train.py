@@ -568,10 +568,11 @@ def pd_compensated_targets(
     early by the command delay of ``world`` (``league`` or ours), as ``mimic train`` learns
     them."""
     from mimic.learn.pd_compensate import pd_references
-    from mimic.world.base import CYCLE_S, LEAGUE_COMMAND_DELAY_CYCLES, World
+    from mimic.world.base import CYCLE_S
+    from mimic.world.registry import get_world
 
     refs = pd_references(time_s, angles_rad, torso_pos_m, torso_quat_wxyz, robot).references_rad
     # A reference acts from the cycle after it is sent (the league server: one cycle later
     # still): learn the one that acts mid-cycle, (delay + 0.5) cycles on.
-    delay = LEAGUE_COMMAND_DELAY_CYCLES if world == "league" else World.command_delay_cycles
+    delay = get_world(world).command_delay_cycles
     return _interp_columns(time_s + (delay + 0.5) * CYCLE_S, time_s, refs)

@@ -1,5 +1,7 @@
-"""Recordings in MCAP: the layout, writing, reading (with recovery), recording agents, and
-the import of the study's text files. See ``mimic.recording.layout`` for the topics."""
+"""Recordings in MCAP: the layout, writing, reading (with recovery), recording agents, the
+import of the study's text files, and another team's league player recorded from the monitor
+stream (``blackbox``) or a game log (``game_log``). See ``mimic.recording.layout`` for the
+topics."""
 
 from mimic.recording.layout import RecordingInfo
 from mimic.recording.reader import (

@@ -1,60 +1,20 @@
-"""The league's field, ball and air, read from the installed RCSSServerMJ (``rcsssmj``).
+"""The league's field and ball as a ``Field``, read from the installed RCSSServerMJ (``rcsssmj``).
 
 Nothing here is a number of ours: the field is the one the server plays on by default (its
-default rule book's field version, ``soccer_fields.py``), the ball, the pitch and the
-physics options come from its soccer world (``resources/environments/soccer/world.xml``).
-Our MuJoCo world uses them for league robots, so motions authored there meet the league's
-ball: radius, mass, friction, solver reference and contact dimensionality, and the air it
-rolls through (the world's density and viscosity drag a 0.11 m ball noticeably).
+default rule book's field version, ``soccer_fields.py``), the ball and the pitch come from its
+soccer world (``league.field``, which also reads its step and air). Our MuJoCo world uses
+them for league robots, so motions authored there meet the league's ball: radius, mass,
+friction, solver reference and contact dimensionality.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
 from functools import cache
-from importlib import resources
-from pathlib import Path
 
-import mujoco
-
-from mimic.errors import MimicError
+from mimic.league.field import league_world_spec
 from mimic.world.field import Contact, Field
 
-__all__ = ["league_field", "league_air", "LeagueAir", "league_world_xml"]
-
-
-@dataclass(frozen=True)
-class LeagueAir:
-    """The league world's physics options that act on everything.
-
-    Attributes:
-        timestep_s: its physics step [s].
-        density_kg_m3: air density (MuJoCo's fluid forces) [kg/m^3].
-        viscosity_pa_s: air viscosity [Pa s].
-    """
-
-    timestep_s: float
-    density_kg_m3: float
-    viscosity_pa_s: float
-
-
-def league_world_xml() -> Path:
-    """The soccer world MJCF of the installed league server."""
-    try:
-        package = resources.files("rcsssmj")
-    except ModuleNotFoundError:
-        raise MimicError(
-            "the league field comes with the league simulator: pip install rcsssmj"
-        ) from None
-    path = Path(str(package / "resources" / "environments" / "soccer" / "world.xml"))
-    if not path.is_file():
-        raise MimicError(f"rcsssmj has no {path}; pip install --upgrade rcsssmj")
-    return path
-
-
-@cache
-def _world_spec() -> mujoco.MjSpec:
-    return mujoco.MjSpec.from_file(str(league_world_xml()))
+__all__ = ["league_field"]
 
 
 def _contact(geom) -> Contact:
@@ -75,7 +35,7 @@ def league_field() -> Field:
     # The server's default: ``python -m rcsssmj`` without --rules / --field.
     rules = create_soccer_rule_book(SoccerRuleBooks.SSIM.value)
     field = create_soccer_field(rules.default_field_version.value)
-    spec = _world_spec()
+    spec = league_world_spec()
     ball, pitch = spec.geom("ball"), spec.geom("pitch")
     length, width, _ = field.field_dim
     goal_depth, goal_width, goal_height = field.goal_dim
@@ -96,10 +56,3 @@ def league_field() -> Field:
         ball_contact=_contact(ball),
         ground_contact=_contact(pitch),
     )
-
-
-@cache
-def league_air() -> LeagueAir:
-    """The league world's step and air."""
-    opt = _world_spec().option
-    return LeagueAir(float(opt.timestep), float(opt.density), float(opt.viscosity))

@@ -62,7 +62,7 @@ class PhysicsConfig:
             return cls()
         if robot.world != "league":
             return cls(timestep_s=0.005)
-        from mimic.world.league_field import league_air
+        from mimic.league.field import league_air
 
         air = league_air()
         return cls(

@@ -5,7 +5,7 @@ The team plans its walk with a linear inverted pendulum (``lipm``), solves its l
 own IK read from the robot description (``ik``, ``body``), feeds the IMU back into foot
 placement and the ankles (``walk``) and kicks along a planned foot path (``kick``); its
 numbers are frozen dataclasses (``params``). It plays as a league team process
-(``python -m mimic.league.other_team_t1 --server HOST:PORT``) that speaks only the protocol,
+(``python -m mimic.team.other_team_t1 --server HOST:PORT``) that speaks only the protocol,
 so a recorder sees it only through the monitor stream. Nothing outside this package relies on
 its internals: the agents expose no joint references (``reference_rad`` stays None).
 """

@@ -1,9 +1,8 @@
 """Game logs: ``rcssservermj --logfile`` writes every monitor frame as one line of RSMP.
 
 ``import_game_log`` turns one player of a log into a recording (the same decoding as the live
-monitor, ``mimic.league.blackbox``); ``import_game_log_all`` writes one recording per player. A
-log cut off or still being written yields every complete frame (a partial last line is
-skipped).
+monitor, ``recording.blackbox``); ``import_game_log_all`` writes one recording per player. A log
+cut off or still being written yields every complete frame (a partial last line is skipped).
 
 A log is untrusted input: a malformed line is skipped and counted, a line longer than
 ``MAX_MESSAGE_BYTES`` too, and a team name becomes a file name only through ``safe_stem`` (never
@@ -16,12 +15,12 @@ from collections.abc import Iterator
 from pathlib import Path
 
 from mimic.files import check_outputs
-from mimic.league.blackbox import BlackBoxResult, describe_players, robot_of, who
 from mimic.league.decode import PlayerDecoder
 from mimic.league.errors import GameLogError, LeagueError, PlayerNotFoundError
-from mimic.league.player_writer import PlayerWriter
 from mimic.league.rsmp import PlayerNode, SceneState, is_rsmp
 from mimic.league.untrusted import MAX_MESSAGE_BYTES, safe_stem
+from mimic.recording.blackbox import BlackBoxResult, describe_players, robot_of, who
+from mimic.recording.player_writer import PlayerWriter
 
 __all__ = [
     "is_game_log",

@@ -29,11 +29,11 @@ from mimic.agents.base import Agent
 from mimic.agents.hold import HoldPose
 from mimic.episode import Observer, Scene, run
 from mimic.league.errors import LeagueConnectionError, LeagueError
-from mimic.league.world import LeagueWorld, LeagueWorldConfig
 from mimic.recording import layout as L
 from mimic.recording.writer import RecordingWriter
 from mimic.sigint import SigintFlag
 from mimic.world.base import CYCLE_S, POSTURES
+from mimic.world.league_server import LeagueWorld, LeagueWorldConfig
 
 __all__ = ["play", "PlayResult", "PlayRecorder", "MAX_PLAY_S", "settle_note"]
 

@@ -3,9 +3,9 @@ protocol.
 
 Examples::
 
-    python -m mimic.league.other_team_t1 --server localhost:60000 --team Others --player 2
-    python -m mimic.league.other_team_t1 --server localhost:60000 --walk-s 8   # then stop
-    python -m mimic.league.other_team_t1 --kick --server localhost:60000
+    python -m mimic.team.other_team_t1 --server localhost:60000 --team Others --player 2
+    python -m mimic.team.other_team_t1 --server localhost:60000 --walk-s 8   # then stop
+    python -m mimic.team.other_team_t1 --kick --server localhost:60000
 
 Without ``--server`` it hosts a server of its own (as ``mimic play`` does). The walk stops on
 command: after ``--walk-s`` seconds it ramps its steps down and stands (then the process ends);
@@ -20,7 +20,7 @@ import sys
 from mimic.agents.base import Agent, JointCommand
 from mimic.agents.other_team_t1 import make_kick, make_walk
 from mimic.errors import MimicError
-from mimic.league.play import play
+from mimic.team.play import play
 from mimic.world.base import Observation
 
 __all__ = ["main", "StopAfter"]
@@ -50,7 +50,7 @@ class StopAfter(Agent):
 
 def _parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
-        prog="python -m mimic.league.other_team_t1", description=__doc__.split("\n\n")[0]
+        prog="python -m mimic.team.other_team_t1", description=__doc__.split("\n\n")[0]
     )
     parser.add_argument("--server", help="the server's agent port HOST:PORT (default: host one)")
     parser.add_argument("--team", default="Others", help="team name (default: Others)")

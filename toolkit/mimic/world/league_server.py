@@ -42,10 +42,10 @@ from mimic.league.client import AgentClient
 from mimic.league.decode import PlayerDecoder, PlayerSample
 from mimic.league.errors import LeagueError
 from mimic.league.monitor import MonitorClient
-from mimic.league.perceived import PerceivedRobot
 from mimic.league.protocol import parse_address
 from mimic.league.server import LeagueServer, ServerConfig
 from mimic.robot.actuators import JointCommand
+from mimic.robot.league import LEAGUE_ROBOTS
 from mimic.robot.mjcf_reader import collision_geoms, geom_box_corners, load_model
 from mimic.robot.model import RobotDescription
 from mimic.robot.registry import get_robot
@@ -59,6 +59,7 @@ from mimic.world.base import (
     posture_quat,
 )
 from mimic.world.league_field import league_field
+from mimic.world.league_perceived import PerceivedRobot
 
 __all__ = ["LeagueWorld", "LeagueWorldConfig", "lowest_point_m"]
 
@@ -110,7 +111,7 @@ class LeagueWorld(PerceivedRobot, World):
         server_config: ServerConfig | None = None,
     ) -> None:
         self.robot = get_robot(robot)
-        if self.robot.world != "league":
+        if self.robot.name not in LEAGUE_ROBOTS:
             raise LeagueError(f"the {self.robot.name} is not a league robot; league robots: t1, k1")
         self.config = config
         self.field = league_field()  # the server's default rule book's

@@ -39,10 +39,11 @@ without sockets, threads or text:
 
 The player joins after one cycle of the empty field (rcsssmj 0.2.1's audio engine fails on a
 player joining before the first cycle), like a player joining a fresh server. Three changes to
-rcsssmj's objects alter no result (``simulation.LeagueSimulation``): no audio step once the player is in
-(nobody speaks; it changes only what a microphone hears), the ball's touches found through a
-table made once per model, and a joining robot's controls zeroed (a server leaves them
-uninitialised until the first command, and MuJoCo warns about them into ``MUJOCO_LOG.TXT``).
+rcsssmj's objects alter no result (``league_simulation.LeagueSimulation``): no audio step once
+the player is in (nobody speaks; it changes only what a microphone hears), the ball's touches
+found through a table made once per model, and a joining robot's controls zeroed (a server
+leaves them uninitialised until the first command, and MuJoCo warns about them into
+``MUJOCO_LOG.TXT``).
 
 A seeded episode gives the same perceptions as on a hosted server, bit for bit; the true state
 agrees to about 1e-13, as closely as two fresh servers agree with each other
@@ -61,11 +62,9 @@ from mimic.league.client import wire_targets_rad
 from mimic.league.errors import LeagueError
 from mimic.league.monitor import place_ball_command, place_player_command
 from mimic.league.names import wire_names
-from mimic.league.perceived import PerceivedRobot
 from mimic.league.senses import Senses
-from mimic.league.simulation import LeagueSimulation
-from mimic.league.world import LeagueWorldConfig, lowest_point_m
 from mimic.robot.actuators import JointCommand, PDMotors
+from mimic.robot.league import LEAGUE_ROBOTS
 from mimic.robot.model import RobotDescription
 from mimic.robot.registry import get_robot
 from mimic.world.base import (
@@ -78,6 +77,9 @@ from mimic.world.base import (
     posture_quat,
 )
 from mimic.world.league_field import league_field
+from mimic.world.league_perceived import PerceivedRobot
+from mimic.world.league_server import LeagueWorldConfig, lowest_point_m
+from mimic.world.league_simulation import LeagueSimulation
 from mimic.world.physics_scales import NominalPhysics
 
 __all__ = ["LeagueInProcessWorld", "InProcessConfig"]
@@ -126,7 +128,7 @@ class LeagueInProcessWorld(PerceivedRobot, World):
         self, robot: RobotDescription | str = "t1", *, config: InProcessConfig = InProcessConfig()
     ) -> None:
         self.robot = get_robot(robot)
-        if self.robot.world != "league":
+        if self.robot.name not in LEAGUE_ROBOTS:
             raise LeagueError(f"the {self.robot.name} is not a league robot; league robots: t1, k1")
         if not isinstance(self.robot.actuator, PDMotors):
             raise LeagueError(f"the {self.robot.name} has no PD motors")

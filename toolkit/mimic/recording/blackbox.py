@@ -1,7 +1,7 @@
 """Black-box recording: another team's player, seen only through the server's monitor stream.
 
 As in the study (which watched SimSpark's monitor), nothing of the team's code is read: the
-monitor shows every body of every robot, ``decode`` turns one player's bodies back into its
+monitor shows every body of every robot, ``league.decode`` turns one player's bodies back into its
 joint angles, and ``PlayerWriter`` writes them in our layout. Works on a server running a match
 in real time or in sync mode; waits for the player to appear. The player leaving ends a recording
 normally; Ctrl-C or the server stopping end it early, the file finished and saying so; a crash
@@ -23,14 +23,14 @@ from mimic.league.errors import (
     PlayerNotFoundError,
 )
 from mimic.league.monitor import MonitorClient
-from mimic.league.player_writer import PlayerWriter
 from mimic.league.protocol import parse_address
 from mimic.league.rsmp import PlayerNode, SceneState
 from mimic.league.untrusted import printable
-from mimic.robot.league import LEAGUE_ROBOTS
+from mimic.recording.player_writer import PlayerWriter
 from mimic.robot.model import RobotDescription
 from mimic.robot.registry import get_robot
 from mimic.sigint import SigintFlag
+from mimic.world.registry import LEAGUE, get_world
 
 __all__ = [
     "record_player",
@@ -99,10 +99,11 @@ def robot_of(node: PlayerNode, robot: str | RobotDescription | None, who: str) -
     (an option); ``DEFAULT_LEAGUE_ROBOT`` when neither says."""
     if robot is None:
         name = robot_for_model(node.model) if node.model else DEFAULT_LEAGUE_ROBOT
-        if name not in LEAGUE_ROBOTS:
+        league_robots = get_world(LEAGUE).robots
+        if name not in league_robots:
             raise LeagueError(
                 f"{who} is a {printable(node.model)} robot, which mimic does not know; "
-                f"league robots: {', '.join(LEAGUE_ROBOTS)}"
+                f"league robots: {', '.join(league_robots)}"
             )
         return get_robot(name)
     name = robot.name if isinstance(robot, RobotDescription) else robot.lower()
