@@ -24,13 +24,13 @@ import numpy as np
 from mimic.agents.base import Agent
 from mimic.episode import Episode, FallCounter, Observer, Scene
 from mimic.geometry import in_robot_frame
-from mimic.league.world import LeagueWorld
 from mimic.learn.train import pd_compensated_targets
 from mimic.tasks import kick_from_stand
 from mimic.tasks.kick_from_stand import After, KickFromStandConfig, Standing
 from mimic.tasks.perturbation import Perturbation
 from mimic.tasks.walk import WalkTrialConfig, walk_scene
 from mimic.world.base import CYCLE_S
+from mimic.world.league_server import LeagueWorld
 from mimic.world.registry import open_world
 
 __all__ = [
