@@ -206,23 +206,15 @@ def _number(column: str, value) -> str:
 
 
 def _world_text(result) -> str:
-    """How the table's episodes were played, for its title: the world and, for kicks, how
-    the robot reached the ball."""
+    """How the table's episodes were played, for its title: the world, what the task says of
+    how it played (a kick: how the robot reached the ball) and the disturbances."""
+    from mimic.world.registry import MUJOCO, get_world
+
     row = result.summary.row(0, named=True)
-    world = {
-        "league": "league world (RCSSServerMJ's simulation, in process)",
-        "league-server": "league world (RCSSServerMJ server)",
-        "mujoco": "our MuJoCo world",
-        "league-like": "our MuJoCo world with the league's solver and command delay",
-    }.get(row.get("world"), "our MuJoCo world")
-    reach = {
-        "place": "robot placed behind the ball after each kick",
-        "walk": "robot walks to the ball",
-    }.get(row.get("reach"))
+    world = get_world(row.get("world") or MUJOCO).title
+    how = result.task.played(row)
     disturb = row.get("disturb")
-    return (
-        world + (f", {reach}" if reach else "") + (f"; disturbances: {disturb}" if disturb else "")
-    )
+    return world + (f", {how}" if how else "") + (f"; disturbances: {disturb}" if disturb else "")
 
 
 def _minutes_text(result, minutes: float | None) -> str:

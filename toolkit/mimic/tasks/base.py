@@ -204,6 +204,12 @@ class TrialTask:
         raise NotImplementedError
 
     @classmethod
+    def played(cls, summary_row: dict) -> str | None:
+        """How a variant's episodes were played, for the table's title (None: nothing to
+        say beyond the world)."""
+        return None
+
+    @classmethod
     def title(cls, config) -> str:
         """The table's title before its budget and seed: ``kick trial``."""
         return f"{cls.name} trial"

@@ -38,7 +38,7 @@ from mimic.tasks.base import (
     first_value,
 )
 from mimic.world.base import World
-from mimic.world.registry import MUJOCO, open_world, world_kind
+from mimic.world.registry import MUJOCO, get_world, open_world, world_kind
 
 __all__ = [
     "KickTask",
@@ -58,6 +58,11 @@ __all__ = [
 SUCCESS_DISTANCE_M = 2.0
 #: How the robot gets back to the ball: walking (our walk engine) or placed behind it.
 REACH_METHODS = ("walk", "place")
+#: Each way to reach the ball, as a trial's title says it.
+_REACH_TEXT = {
+    "place": "robot placed behind the ball after each kick",
+    "walk": "robot walks to the ball",
+}
 
 
 @dataclass(frozen=True)
@@ -106,14 +111,22 @@ class KickTrialConfig:
     disturb: str = "none"
 
 
+def _walk_engine_world(world: str) -> bool:
+    """Our walk engine can walk to the ball in this world: it steps the physics itself and
+    a command acts at once (the engine's timing was tuned so), on our field."""
+    spec = get_world(world)
+    return spec.owns_physics and spec.command_delay_cycles == 0 and not spec.league_field
+
+
 def reach_method(config: KickTrialConfig, robot: str) -> str:
     """How this trial reaches the ball with this robot (``config.reach`` resolved).
 
     Raises:
         MimicError: ``walk`` for a robot our walk engine cannot drive, or an unknown method.
     """
+    walkable = _walk_engine_world(config.world)
     if config.reach == "auto":
-        return "walk" if robot == "nao" and world_kind(config.world) == MUJOCO else "place"
+        return "walk" if robot == "nao" and walkable else "place"
     if config.reach not in REACH_METHODS:
         raise MimicError(
             f"unknown way to reach the ball {config.reach!r}; one of: auto, "
@@ -123,7 +136,7 @@ def reach_method(config: KickTrialConfig, robot: str) -> str:
         raise MimicError(
             f"our walk engine drives the NAO only, not the {robot}; reach the ball with 'place'"
         )
-    if config.reach == "walk" and world_kind(config.world) != MUJOCO:
+    if config.reach == "walk" and not walkable:
         raise MimicError(
             "walking to the ball needs our MuJoCo world (the NAO); in the league "
             "the robot is placed behind the ball"
@@ -286,24 +299,26 @@ class _BallWatch:
     when the referee calls it out it puts the ball back on a line at once, so that is where the
     kick took it."""
 
-    def __init__(self, config: KickTrialConfig, waited: Callable[[World], bool]) -> None:
-        self.rest_m_s, self.waited = config.ball_rest_speed_m_s, waited
+    def __init__(
+        self, config: KickTrialConfig, waited: Callable[[World], bool], referee: bool
+    ) -> None:
+        self.rest_m_s, self.waited, self.referee = config.ball_rest_speed_m_s, waited, referee
         self.in_play_xy: np.ndarray | None = None
 
     def __call__(self, world: World) -> bool:
-        if _referee(world) is not None:
+        if _referee(world, self.referee) is not None:
             return True
         self.in_play_xy = world.ball_pos_m()[:2]
         return world.ball_speed_m_s() < self.rest_m_s and self.waited(world)
 
 
-def _referee(world: World) -> str | None:
+def _referee(world: World, referee: bool) -> str | None:
     """What the league's referee made of the ball: ``goal``, ``out`` (a throw-in, corner or
-    goal kick: it has put the ball back) or None (nothing yet; our world has no referee)."""
-    play_mode = getattr(world, "play_mode", None)
-    if play_mode is None:
+    goal kick: it has put the ball back) or None (nothing yet, or no referee: ``referee``
+    False, our world)."""
+    if not referee:
         return None
-    mode = play_mode()
+    mode = world.play_mode()
     if mode == "BeforeKickOff":
         return None
     return "goal" if mode.startswith("Goal_") else "out"
@@ -325,6 +340,7 @@ def _play_kick_episode(
     disturb = EpisodeDisturbances(config.disturb, seed, world)
     disturb.apply_physics(world)
     reach = reach_method(config, kick.robot)
+    referee = get_world(config.world).league_referee
     goal_x = world.field.opponent_goal_x_m
     trace = PoseTrace() if config.trace else None
     episode = Episode(world, observers=(trace, disturb.pusher) if trace else (disturb.pusher,))
@@ -348,7 +364,7 @@ def _play_kick_episode(
         outcome = episode.run(disturb.agent(kick.build()), max_s=min(10.0, left_s()))
         pushed = len(disturb.pusher.pushed) - pushes_before
         if outcome != "fell":
-            watch = _BallWatch(config, lambda w: w.time_s - start_t > 1.0)  # noqa: B023 (used in this iteration)
+            watch = _BallWatch(config, lambda w: w.time_s - start_t > 1.0, referee)  # noqa: B023 (used in this iteration)
             episode.stand_still(max_s=min(config.ball_wait_s, left_s()), stop=watch)
         else:  # the ball still rolls while the robot lies (placed anew next: a falling
             # robot may still push the ball, so wait until it has lain a second)
@@ -358,9 +374,10 @@ def _play_kick_episode(
                 (lambda w: w.time_s - fell_t > 1.0)  # noqa: B023
                 if reach == "place"
                 else (lambda w: True),
+                referee,
             )
             episode.wait_limp(max_s=min(config.ball_wait_s, left_s()), stop=watch)
-        called = _referee(world)
+        called = _referee(world, referee)
         end_xy = world.ball_pos_m()[:2]
         if called == "out" and watch.in_play_xy is not None:
             end_xy = watch.in_play_xy
@@ -588,6 +605,11 @@ class KickTask(TrialTask):
     @classmethod
     def default_variant(cls, robot: str, config: KickTrialConfig) -> str:
         return "kick_right"
+
+    @classmethod
+    def played(cls, summary_row: dict) -> str | None:
+        """How the robot reached the ball."""
+        return _REACH_TEXT.get(summary_row.get("reach"))
 
     @classmethod
     def check_variant(cls, spec: AgentSpec) -> None:

@@ -29,7 +29,7 @@ from mimic.tasks.base import (
     first_value,
 )
 from mimic.world import field as F
-from mimic.world.registry import LEAGUE_WORLDS, MUJOCO, open_world, world_kind
+from mimic.world.registry import MUJOCO, get_world, open_world, world_kind
 
 __all__ = [
     "WalkTask",
@@ -73,7 +73,7 @@ class WalkTrialConfig:
 
     def course_m(self) -> tuple[float, float]:
         """(start x, finish x) [m] in this trial's world."""
-        own = LEAGUE_COURSE_M if world_kind(self.world) in LEAGUE_WORLDS else (F.OWN_GOAL_X_M, 0.0)
+        own = LEAGUE_COURSE_M if get_world(self.world).league_field else (F.OWN_GOAL_X_M, 0.0)
         return (
             own[0] if self.start_x_m is None else self.start_x_m,
             own[1] if self.finish_x_m is None else self.finish_x_m,
