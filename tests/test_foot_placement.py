@@ -18,7 +18,8 @@ from mimic.agents.neural_player import NeuralPlayer
 from mimic.errors import MimicError
 from mimic.learn.presets import FAST
 from mimic.learn.train import TrainConfig, train_model, training_dataset
-from mimic.model.foot_track import FOOT_TRACK_KEY, FootTrack
+from mimic.model.foot_track import FootTrack
+from mimic.model.keys import FOOT_TRACK_KEY
 from mimic.recording import layout as L
 from mimic.recording.recorder import record
 from mimic.world.kinematics import FootKinematics

@@ -17,7 +17,6 @@ from mimic.cli.main import app
 from mimic.errors import MimicError
 from mimic.improve.sim_fit import (
     SENSITIVITY_RANGE,
-    SIM_FIT_KEY,
     FitCheck,
     SimFit,
     SimFitConfig,
@@ -30,6 +29,7 @@ from mimic.improve.sim_fit import (
     fitted_dataset,
     sim_fit_world,
 )
+from mimic.model.keys import SIM_FIT_KEY
 from mimic.robot.registry import get_robot
 from mimic.world.registry import LEAGUE_LIKE, MUJOCO
 from tests._cli_helpers import one_line_error

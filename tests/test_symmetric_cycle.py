@@ -18,7 +18,8 @@ from mimic.errors import DatasetError
 from mimic.learn.dataset import as_cyclic, dataset_from_frame, symmetric_cycle
 from mimic.learn.presets import FAST
 from mimic.learn.train import TrainConfig, train_model, training_dataset
-from mimic.model.foot_track import FOOT_TRACK_KEY, FootTrack
+from mimic.model.foot_track import FootTrack
+from mimic.model.keys import FOOT_TRACK_KEY
 from mimic.model.model_file import load_model
 from mimic.recording import layout as L
 from mimic.recording.recorder import record

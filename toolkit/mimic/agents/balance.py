@@ -53,6 +53,7 @@ import numpy as np
 from mimic.agents.base import Agent, JointCommand
 from mimic.errors import MimicError
 from mimic.geometry import yaw_from_quat
+from mimic.model.keys import BALANCE_GAINS_KEY
 from mimic.robot.model import RobotDescription
 from mimic.robot.registry import get_robot
 from mimic.world.base import CYCLE_S, Observation
@@ -68,7 +69,6 @@ __all__ = [
     "default_heading",
     "gains_with",
     "with_balance_gains",
-    "BALANCE_GAINS_KEY",
     "torso_lean_rad",
     "torso_yaw_rad",
     "foot_yaw_shift_rad",
@@ -262,11 +262,6 @@ def foot_yaw_shift_rad(
         if abs(ax[1]) > 1e-9:
             shift[legs.index[side]["hip_pitch"]] = -q * ax[1] / legs.axis[side]["hip_pitch"][1]
     return shift
-
-
-#: Where a model file carries its own balance gains (``metadata``; written by ``mimic improve
-#: M.mimic+balance``): the ``BalanceGains`` fields it sets, the rest its robot's defaults.
-BALANCE_GAINS_KEY = "balance_gains"
 
 
 def gains_with(base: BalanceGains, fields: dict, where: str = "balance gains") -> BalanceGains:

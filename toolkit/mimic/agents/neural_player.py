@@ -17,9 +17,9 @@ from pathlib import Path
 
 import numpy as np
 
-from mimic.agents.balance import BALANCE_GAINS_KEY
 from mimic.agents.base import Agent, JointCommand
-from mimic.model.foot_track import FOOT_TRACK_KEY, FootTrack
+from mimic.model.foot_track import FootTrack
+from mimic.model.keys import BALANCE_GAINS_KEY, FOOT_TRACK_KEY, WALK_SPEED_KEY
 from mimic.model.motion_model import MotionModel
 from mimic.world.base import Observation
 
@@ -41,8 +41,6 @@ _RAMP_STEP_M = {"t1": 0.268}
 
 # Phases sampled to find a cyclic model's mean pose.
 _MEAN_SAMPLES = 64
-#: Where a cyclic model learned step by step carries the speed its recording walked [m/s].
-WALK_SPEED_KEY = "walk_speed_m_s"
 #: Commanded speed: the phase rate changes by this share of the relative speed error per gait
 #: cycle, within ``RATE_RANGE`` of the learned rate (T1 copies fell at 1.15-1.2).
 RATE_GAIN = 0.5

@@ -390,7 +390,8 @@ def _checked(learned, fitted, fit, config):
     metadata."""
     from dataclasses import replace
 
-    from mimic.improve.sim_fit import SIM_FIT_KEY, check_fit
+    from mimic.improve.sim_fit import check_fit
+    from mimic.model.keys import SIM_FIT_KEY
 
     label = f"checking {fitted.name} against the copy as learned"
     with _walks_bar(label, 2 * config.check_walks) as (bar, task):

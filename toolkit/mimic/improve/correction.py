@@ -25,12 +25,10 @@ import dataclasses
 
 import numpy as np
 
+from mimic.model.keys import CORRECTION_KEY
 from mimic.model.motion_model import MotionModel
 
 __all__ = ["corrected_model", "CORRECTION_KEY"]
-
-#: Where the correction is recorded in the model's metadata.
-CORRECTION_KEY = "correction"
 
 
 def corrected_model(

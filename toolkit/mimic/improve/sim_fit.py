@@ -55,6 +55,7 @@ from mimic.agents.base import Agent, JointCommand
 from mimic.agents.neural_player import NeuralPlayer
 from mimic.errors import MimicError
 from mimic.learn.dataset import Dataset
+from mimic.model.keys import SIM_FIT_KEY
 from mimic.model.motion_model import MotionModel
 from mimic.robot.registry import get_robot
 from mimic.tasks.walk import WalkTrialConfig, run_walk_episode
@@ -65,7 +66,6 @@ __all__ = [
     "SimFitConfig",
     "SimFitRound",
     "SimFit",
-    "SIM_FIT_KEY",
     "FitCheck",
     "check_fit",
     "fit_in_simulation",
@@ -73,8 +73,6 @@ __all__ = [
     "sim_fit_world",
 ]
 
-#: Where a model trained on fitted references records the fit (``SimFit.summary``).
-SIM_FIT_KEY = "sim_fit"
 #: The shares of a correction a joint is taken to follow, at least and at most: a step is
 #: at most four times the gain's.
 SENSITIVITY_RANGE = (0.25, 1.0)

@@ -271,7 +271,7 @@ class ModelTarget(Target):
     +-0.25 rad) and ``gain.<joint>`` (scale 0.05, 0.5..1.5) for the chosen joints (default:
     the legs: 1 + 12 + 12 = 25 parameters on the NAO); with ``balance``, ``balance.<gain>``
     (``BALANCE_SEARCH``) from the gains the layer would use around the model as it is. The
-    model file written carries the gains found (``agents.balance.BALANCE_GAINS_KEY``), so
+    model file written carries the gains found (``model.keys.BALANCE_GAINS_KEY``), so
     ``OUT.mimic+balance`` plays with them.
     """
 

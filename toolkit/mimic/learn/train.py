@@ -301,7 +301,7 @@ def training_dataset(
         symmetric_cycle,
     )
     from mimic.learn.window import window
-    from mimic.model.foot_track import FOOT_TRACK_KEY
+    from mimic.model.keys import FOOT_TRACK_KEY
     from mimic.recording.layout import JOINT_STATES
     from mimic.robot.actuators import PDMotors, SpeedServos
     from mimic.robot.registry import get_robot

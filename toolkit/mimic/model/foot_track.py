@@ -28,10 +28,8 @@ import numpy as np
 
 from mimic.errors import MimicError
 
-__all__ = ["FOOT_TRACK_KEY", "TRACK_BINS", "FootTrack"]
+__all__ = ["TRACK_BINS", "FootTrack"]
 
-#: Where a cyclic model file carries its recording's foot track (``metadata``).
-FOOT_TRACK_KEY = "foot_track"
 #: Most phase bins of a stored foot track (fewer when a cycle holds fewer samples: the T1
 #: other team's 0.84 s cycle at the monitor's 25 Hz gets 21); empty bins are interpolated.
 TRACK_BINS = 24
