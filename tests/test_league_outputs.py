@@ -264,18 +264,18 @@ def test_a_failed_recording_from_a_server_leaves_the_target_as_it_was(game, tmp_
 
 
 def test_a_failed_play_leaves_its_output_as_it_was(tmp_path, monkeypatch):
-    from mimic.team.play import PlayRecorder
+    from mimic.recording.recorder import McapObserver
 
     target = tmp_path / "played.mcap"
     target.write_bytes(b"a good recording")
-    original = PlayRecorder.before_step
+    original = McapObserver.before_step
 
     def before_step(self, *args):
         if self.samples >= 10:
             raise OSError(28, "No space left on device")
         original(self, *args)
 
-    monkeypatch.setattr(PlayRecorder, "before_step", before_step)
+    monkeypatch.setattr(McapObserver, "before_step", before_step)
     result = runner.invoke(app, ["play", "stand", "--seconds", "2", "-o", str(target), "--force"])
     _one_line_error(result, 1, "No space left on device")
     assert target.read_bytes() == b"a good recording"

@@ -25,6 +25,7 @@ def print_recording_summary(summary: dict) -> None:
     rows = [
         ("motion", summary.get("motion")),
         ("robot", summary.get("robot")),
+        ("world", summary.get("world")),
         ("agent", summary.get("agent")),
         ("team", summary.get("team")),
         ("source", summary.get("source")),
@@ -128,6 +129,15 @@ def register(app: typer.Typer) -> None:
             ),
         ] = None,
         force: Annotated[bool, FORCE] = False,
+        world: Annotated[
+            str,
+            typer.Option(
+                help="Where to record: mujoco (ours; also 'nao'), league (the league server's "
+                "own simulation, in this process), league-server (a league server mimic hosts "
+                "for the recording) or league-like (ours with the league's solver and command "
+                "delay)."
+            ),
+        ] = "mujoco",
         server: Annotated[
             str | None,
             typer.Option(
@@ -158,7 +168,8 @@ def register(app: typer.Typer) -> None:
             ),
         ] = 30.0,
     ) -> None:
-        """Run an agent in the simulator and record it as MCAP (Ctrl-C keeps what was made).
+        """Run an agent in the simulator and record it as MCAP (Ctrl-C keeps what was made),
+        in any world (--world).
 
         With --server: record a league player from the server's monitor stream instead."""
         from mimic import options
@@ -200,8 +211,12 @@ def register(app: typer.Typer) -> None:
         options.finite(warmup, "--warmup", at_least=0)
         options.seed(seed)
         from mimic.agents.registry import make_agent
+        from mimic.world.registry import get_world
 
-        agent = make_agent(str(model) if model is not None else name, robot=robot or "nao")
+        spec = get_world(world)
+        agent = make_agent(
+            str(model) if model is not None else name, robot=robot or spec.default_robot
+        )
         check_output(out, force=force, inputs=spec_files(model, name))
         with Progress(
             TextColumn("recording"),
@@ -224,6 +239,7 @@ def register(app: typer.Typer) -> None:
                 observe_only=observe_only,
                 warmup_s=warmup,
                 progress=progress,
+                world=spec.name,
             )
         if result.interrupted:
             err_console.print(

@@ -17,7 +17,6 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 
-import mujoco
 import numpy as np
 
 from mimic import __version__
@@ -28,9 +27,10 @@ from mimic.errors import MimicError
 from mimic.geometry import quat_mul, rotate
 from mimic.recording import layout as L
 from mimic.recording.writer import RecordingWriter
+from mimic.robot.model import RobotDescription
 from mimic.sigint import SigintFlag
-from mimic.world.base import CYCLE_S, World
-from mimic.world.mujoco_world import MujocoWorld
+from mimic.world.base import CYCLE_S, Observation, World
+from mimic.world.registry import MUJOCO, check_world, get_world, open_world, recorded_as
 
 __all__ = ["record", "RecordResult", "RecordConfig", "TfSampler", "McapObserver"]
 
@@ -73,75 +73,114 @@ class RecordResult:
 
 
 class TfSampler:
-    """Link poses in their parents (the URDF tree under ``world``) and the ball in ``world``."""
+    """Link poses in their parents (the URDF tree under ``world``) and the ball in ``world``,
+    from any world's ``body_poses`` and ``ball_pose``."""
 
-    def __init__(self, world: MujocoWorld) -> None:
-        m, links = world.model, world.robot.links
+    def __init__(self, robot: RobotDescription) -> None:
+        links = robot.links
         self.children = [link.name for link in links] + [L.BALL_FRAME]
         self.parents = [link.parent or L.WORLD_FRAME for link in links] + [L.WORLD_FRAME]
-        self._child_ids = np.array([m.body(n).id for n in self.children])
-        # Parent body ids; the world body (id 0) sits at the origin with identity rotation.
-        self._parent_ids = np.array(
-            [m.body(link.parent).id if link.parent else 0 for link in links] + [0]
-        )
+        index = {link.name: i for i, link in enumerate(links)}
+        # Each child's parent among the links; -1: the field frame (origin, no rotation).
+        self._parent = np.array([index[link.parent] if link.parent else -1 for link in links])
 
-    def sample(self, world: MujocoWorld) -> tuple[np.ndarray, np.ndarray]:
+    def frames(self, world: World, obs: Observation):
+        """(parents, children, (n, 3) positions [m], (n, 4) quaternions) of this cycle."""
+        return (self.parents, self.children, *self.sample(world))
+
+    def sample(self, world: World) -> tuple[np.ndarray, np.ndarray]:
         """(n, 3) positions [m] and (n, 4) quaternions of each child in its parent."""
-        mujoco.mj_kinematics(world.model, world.data)  # xpos lags qpos after mj_step
-        xpos, xquat = world.data.xpos, world.data.xquat
-        pc, qc = xpos[self._child_ids], xquat[self._child_ids]
-        pp, qp = xpos[self._parent_ids], xquat[self._parent_ids]
+        poses = world.body_poses()
+        ball_pos, ball_quat = world.ball_pose()
+        pc = np.vstack([poses.pos_m, ball_pos])
+        qc = np.vstack([poses.quat_wxyz, ball_quat])
+        pp = np.zeros_like(pc)
+        qp = np.zeros_like(qc)
+        qp[:, 0] = 1.0
+        linked = np.flatnonzero(self._parent >= 0)
+        pp[linked] = poses.pos_m[self._parent[linked]]
+        qp[linked] = poses.quat_wxyz[self._parent[linked]]
         qp_inv = qp * np.array([1.0, -1.0, -1.0, -1.0])
         return rotate(qp_inv, pc - pp), quat_mul(qp_inv, qc)
 
 
+class PerceivedTf:
+    """What a player perceives of itself and the ball, for ``/tf``: its root link (the torso)
+    and, when shown, the ball, both under ``world`` (a team process on a league server knows
+    no more than its perceptions)."""
+
+    def __init__(self, root_link: str) -> None:
+        self.root_link = root_link
+
+    def frames(self, world: World, obs: Observation):
+        """(parents, children, (n, 3) positions [m], (n, 4) quaternions) of this cycle."""
+        pos = [np.asarray(obs.torso_pos_m, float)]
+        quat = [np.asarray(obs.torso_quat_wxyz, float)]
+        children = [self.root_link]
+        ball = np.asarray(obs.ball_pos_m, float)
+        if ball.shape == (3,) and np.all(np.isfinite(ball)):
+            pos.append(ball)
+            quat.append(np.array([1.0, 0.0, 0.0, 0.0]))
+            children.append(L.BALL_FRAME)
+        return [L.WORLD_FRAME] * len(children), children, np.array(pos), np.array(quat)
+
+
 class McapObserver(Observer):
-    """Writes every cycle it sees: joint states, our references, the ended flag, TF.
+    """The recorder: writes every cycle it sees, in any world: joint states, the agent's
+    references, the ended flag, ``/tf``. Times are the world's clock from the first cycle
+    written (a real-time server's missed cycles leave gaps).
 
     Args:
         writer: an open ``RecordingWriter``.
-        planned_cycles: the last cycle to write (its ``ended`` flag is set).
+        planned_cycles: the last cycle to write (its ``ended`` flag is set); None: no
+            planned end.
         one_shot: the agent's ``done`` marks the motion's end (``ended`` from then on).
-        with_references: write ``/joint_references`` (our own agents only).
+        with_references: write ``/joint_references`` when the agent has them.
         tf_every: write ``/tf`` every this many cycles (and on the last).
+        tf: what ``/tf`` shows: None, every link in its parent and the ball, from the world
+            (``TfSampler``); or ``PerceivedTf`` (what a player perceives).
         progress: called after each written cycle with (time [s], planned total [s] or None).
     """
 
     def __init__(
         self,
         writer: RecordingWriter,
-        world: MujocoWorld,
+        world: World,
         *,
-        planned_cycles: int,
+        planned_cycles: int | None,
         one_shot: bool,
         with_references: bool,
         tf_every: int = 1,
+        tf: PerceivedTf | None = None,
         planned_s: float | None = None,
         progress: Progress | None = None,
     ) -> None:
         self.writer, self.planned_cycles, self.one_shot = writer, planned_cycles, one_shot
         self.with_references, self.tf_every = with_references, tf_every
         self.planned_s, self.progress = planned_s, progress
-        self.tf = TfSampler(world)
+        self.tf = TfSampler(world.robot) if tf is None else tf
         self.samples, self.t_last_s = 0, 0.0
         self.interrupted = False
         self._cycle_ns = int(round(CYCLE_S * L.NS_PER_S))
+        self._first_cycle: int | None = None
 
     @property
     def finished(self) -> bool:
-        return self.samples >= self.planned_cycles
+        return self.planned_cycles is not None and self.samples >= self.planned_cycles
 
     def before_step(self, world, obs, agent, command) -> None:
         k = self.samples
-        t_ns = k * self._cycle_ns
-        last = k == self.planned_cycles - 1
-        ended = (agent.done and self.one_shot) or (last and not self.interrupted)
+        cycle = int(round(obs.time_s / CYCLE_S))
+        self._first_cycle = cycle if self._first_cycle is None else self._first_cycle
+        t_ns = (cycle - self._first_cycle) * self._cycle_ns
+        last = self.planned_cycles is not None and k == self.planned_cycles - 1
+        ended = bool(agent.done and self.one_shot) or (last and not self.interrupted)
         self.writer.write_joints(t_ns, obs.joint_angles_rad, obs.joint_speeds_rad_s)
         if self.with_references and agent.reference_rad is not None:
             self.writer.write_joints(t_ns, agent.reference_rad, topic=L.JOINT_REFERENCES)
         self.writer.write_ended(t_ns, ended)
         if k % self.tf_every == 0 or last or (agent.done and self.one_shot):
-            self.writer.write_tf(t_ns, self.tf.parents, self.tf.children, *self.tf.sample(world))
+            self.writer.write_tf(t_ns, *self.tf.frames(world, obs))
         self.samples, self.t_last_s = k + 1, t_ns / L.NS_PER_S
         if self.progress is not None:
             self.progress(self.t_last_s, self.planned_s)
@@ -168,7 +207,7 @@ def record(
     config: RecordConfig = RecordConfig(),
     progress: Progress | None = None,
     compression: str = "zstd",
-    world: World | None = None,
+    world: World | str | None = None,
 ) -> RecordResult:
     """Run ``agent`` (an agent spec for ``make_agent``, or an Agent) in a fresh world and
     record it.
@@ -182,7 +221,9 @@ def record(
             ``config.cyclic_warmup_s``).
         ball_offset_m: ball position in the robot frame (x forward, y left) [m]; default: the
             motion's own ``ball_offset_m`` (our agents only); None places the ball aside.
-        world: the world to record in (default: a fresh ``MujocoWorld`` of the agent's robot).
+        world: the world to record in: a world, or the name of one to open for this recording
+            (``world.registry``: ``mujoco``, ``league``, ``league-server``, ``league-like``;
+            default: ours, with the agent's robot).
 
     Returns:
         A ``RecordResult``; ``interrupted`` is True when Ctrl-C stopped it (the file is valid).
@@ -191,14 +232,62 @@ def record(
         from mimic.agents.registry import make_agent
 
         agent = make_agent(agent)
-    own = agent.team == "mimic"
-    observe_only = observe_only or not own
-    period_s = agent.period_s
     if duration_s is not None and not duration_s > 0:
         raise MimicError(f"--duration must be > 0 s, got {duration_s}")
     if seed < 0:
         raise MimicError(f"--seed must be >= 0, got {seed}")
-    world = world or MujocoWorld(agent.robot)
+    if world is None or isinstance(world, str):
+        spec = get_world(world or MUJOCO)
+        check_world(spec.name, agent.robot)
+        with open_world(spec.name, agent.robot) as opened:
+            return _record(
+                agent,
+                out_path,
+                opened,
+                spec.recorded_as,
+                duration_s=duration_s,
+                seed=seed,
+                observe_only=observe_only,
+                warmup_s=warmup_s,
+                ball_offset_m=ball_offset_m,
+                config=config,
+                progress=progress,
+                compression=compression,
+            )
+    return _record(
+        agent,
+        out_path,
+        world,
+        recorded_as(world),
+        duration_s=duration_s,
+        seed=seed,
+        observe_only=observe_only,
+        warmup_s=warmup_s,
+        ball_offset_m=ball_offset_m,
+        config=config,
+        progress=progress,
+        compression=compression,
+    )
+
+
+def _record(
+    agent: Agent,
+    out_path: str | Path,
+    world: World,
+    world_name: str,
+    *,
+    duration_s: float | None,
+    seed: int,
+    observe_only: bool,
+    warmup_s: float | None,
+    ball_offset_m: tuple[float, float] | None,
+    config: RecordConfig,
+    progress: Progress | None,
+    compression: str,
+) -> RecordResult:
+    own = agent.team == "mimic"
+    observe_only = observe_only or not own
+    period_s = agent.period_s
     agent.check_robot(world.robot)
     offset = _ball_offset(agent, own, ball_offset_m)
     scene = Scene(
@@ -221,6 +310,7 @@ def record(
         period_s=period_s,
         ball_offset_m=offset,
         start_posture=agent.start_posture,
+        world=world_name,
     )
     if period_s is not None:
         periods = max(1, round((duration_s or config.default_periods * period_s) / period_s))

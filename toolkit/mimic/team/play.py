@@ -30,12 +30,13 @@ from mimic.agents.hold import HoldPose
 from mimic.episode import Observer, Scene, run
 from mimic.league.errors import LeagueConnectionError, LeagueError
 from mimic.recording import layout as L
+from mimic.recording.recorder import McapObserver, PerceivedTf
 from mimic.recording.writer import RecordingWriter
 from mimic.sigint import SigintFlag
 from mimic.world.base import CYCLE_S, POSTURES
 from mimic.world.league_server import LeagueWorld, LeagueWorldConfig
 
-__all__ = ["play", "PlayResult", "PlayRecorder", "MAX_PLAY_S", "settle_note"]
+__all__ = ["play", "PlayResult", "MAX_PLAY_S", "settle_note"]
 
 #: How long an agent that never says it is done plays without ``seconds`` [s].
 MAX_PLAY_S = 60.0
@@ -70,38 +71,6 @@ class PlayResult:
     @property
     def interrupted(self) -> bool:
         return self.end in ("interrupted", "server stopped")
-
-
-class PlayRecorder(Observer):
-    """Writes what the player perceived and commanded every cycle, and where its torso (and
-    the ball, when the monitor shows it) was, on ``/tf``."""
-
-    def __init__(self, writer: RecordingWriter, root_link: str = "torso") -> None:
-        self.writer = writer
-        self.root_link = root_link
-        self.samples, self.t_last_s = 0, 0.0
-        self._t0_cycles: int | None = None
-
-    def before_step(self, world, obs, agent, command) -> None:
-        cycle = int(round(obs.time_s / CYCLE_S))
-        self._t0_cycles = cycle if self._t0_cycles is None else self._t0_cycles
-        t_ns = (cycle - self._t0_cycles) * _NS_PER_CYCLE
-        self.writer.write_joints(t_ns, obs.joint_angles_rad, obs.joint_speeds_rad_s)
-        if agent.reference_rad is not None:
-            self.writer.write_joints(t_ns, agent.reference_rad, topic=L.JOINT_REFERENCES)
-        self.writer.write_ended(t_ns, bool(agent.done))
-        pos = [np.asarray(obs.torso_pos_m, float)]
-        quat = [np.asarray(obs.torso_quat_wxyz, float)]
-        children = [self.root_link]
-        ball = np.asarray(obs.ball_pos_m, float)
-        if ball.shape == (3,) and np.all(np.isfinite(ball)):
-            pos.append(ball)
-            quat.append(np.array([1.0, 0.0, 0.0, 0.0]))
-            children.append(L.BALL_FRAME)
-        self.writer.write_tf(
-            t_ns, [L.WORLD_FRAME] * len(children), children, np.array(pos), np.array(quat)
-        )
-        self.samples, self.t_last_s = self.samples + 1, t_ns / L.NS_PER_S
 
 
 class PlayTrack(Observer):
@@ -210,7 +179,19 @@ def play(
                 out_path, _info(agent, world, agent_address), urdf=world.robot.urdf()
             )
         )
-        recorder = None if writer is None else PlayRecorder(writer, world.robot.root_link)
+        # The one recorder, showing on /tf what the player perceives (its torso, the ball).
+        recorder = (
+            None
+            if writer is None
+            else McapObserver(
+                writer,
+                world,
+                planned_cycles=None,
+                one_shot=True,
+                with_references=True,
+                tf=PerceivedTf(world.robot.root_link),
+            )
+        )
         planned_s = seconds
         track = PlayTrack()
         watchers: list[Observer] = [track] if recorder is None else [track, recorder]

@@ -179,6 +179,11 @@ class World(ABC):
     def body_poses(self) -> BodyPoses:
         """Every link's pose in the field frame."""
 
+    def ball_pose(self) -> tuple[np.ndarray, np.ndarray]:
+        """The ball's (3,) centre [m] and (4,) orientation (w, x, y, z) in the field frame,
+        for recordings; a world that does not show the ball's spin gives no rotation."""
+        return self.ball_pos_m(), np.array([1.0, 0.0, 0.0, 0.0])
+
     # --- disturbances (``episode.disturbance``) ----------------------------------------------
     #: The world owns its physics: it can scale friction and masses per episode and push the
     #: robot (a server in another process cannot).

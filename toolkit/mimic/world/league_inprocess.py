@@ -162,6 +162,7 @@ class LeagueInProcessWorld(PerceivedRobot, World):
         self._link_ids = np.array([m.body(prefix + link.name).id for link in self.robot.links])
         ball = m.joint(self._sim.ball.root_joint_name)
         self._ball_q, self._ball_v = int(ball.qposadr[0]), int(ball.dofadr[0])
+        self._ball_body = int(m.jnt_bodyid[ball.id])
         self._parser = SoccerCommandParser()
         self._motors_set = False
         self._last_reference, self._last_targets = np.full(self.robot.num_joints, np.nan), None
@@ -342,6 +343,13 @@ class LeagueInProcessWorld(PerceivedRobot, World):
             return 0.0
         d = self._sim.mj_data
         return float(np.linalg.norm(d.qvel[self._ball_v : self._ball_v + 3]))
+
+    def ball_pose(self) -> tuple[np.ndarray, np.ndarray]:
+        """The ball's centre and orientation now, from qpos (its spin included)."""
+        m, k = self._sim.mj_model, self._kinematics
+        k.qpos[:] = self._sim.mj_data.qpos
+        mujoco.mj_kinematics(m, k)
+        return k.xpos[self._ball_body].copy(), k.xquat[self._ball_body].copy()
 
     def body_poses(self) -> BodyPoses:
         """Every link's pose now, from qpos (not the monitor's ``xpos``, 5 ms older)."""

@@ -244,6 +244,12 @@ class MujocoWorld(World):
         """(3,) robot centre of mass in the field frame [m]."""
         return self.data.subtree_com[self.torso_body_id].copy()
 
+    def ball_pose(self) -> tuple[np.ndarray, np.ndarray]:
+        """The ball's centre and orientation now, its spin included."""
+        mujoco.mj_kinematics(self.model, self.data)  # xpos lags qpos after mj_step
+        b = self.ball_body_id
+        return self.data.xpos[b].copy(), self.data.xquat[b].copy()
+
     def body_poses(self) -> BodyPoses:
         mujoco.mj_kinematics(self.model, self.data)  # xpos lags qpos after mj_step
         return BodyPoses(

@@ -66,6 +66,7 @@ __all__ = [
     "open_world",
     "default_robot",
     "check_world",
+    "recorded_as",
 ]
 
 MUJOCO = "mujoco"
@@ -103,6 +104,9 @@ class WorldSpec:
             physics must be ours, e.g. fitting a walk in simulation: itself for ours,
             ``league-like`` for the league's.
         opener: how it opens for one episode (``Opener``; ``open_world`` calls it).
+        recorded_as: the world a recording made in it names (``RecordingInfo.world``; ``nao``
+            for ours, as recordings have always said; what ``mimic train`` reads the command
+            delay from).
 
     ``owns_physics`` and ``command_delay_cycles`` are read from ``world_class``, so the class
     stays the one place that says them.
@@ -118,6 +122,7 @@ class WorldSpec:
     needs_rcsssmj: bool
     twin: str
     opener: Opener
+    recorded_as: str
 
     @property
     def owns_physics(self) -> bool:
@@ -186,6 +191,7 @@ _SPECS = (
         needs_rcsssmj=False,
         twin=MUJOCO,
         opener=_construct(MujocoWorld),
+        recorded_as="nao",
     ),
     WorldSpec(
         name=LEAGUE,
@@ -198,6 +204,7 @@ _SPECS = (
         needs_rcsssmj=True,
         twin=LEAGUE_LIKE,
         opener=_open_in_process,
+        recorded_as=LEAGUE,
     ),
     WorldSpec(
         name=LEAGUE_SERVER,
@@ -210,6 +217,7 @@ _SPECS = (
         needs_rcsssmj=True,
         twin=LEAGUE_LIKE,
         opener=_open_on_hosted_server,
+        recorded_as=LEAGUE,
     ),
     WorldSpec(
         name=LEAGUE_LIKE,
@@ -222,6 +230,7 @@ _SPECS = (
         needs_rcsssmj=False,
         twin=LEAGUE_LIKE,
         opener=_construct(LeagueLikeWorld),
+        recorded_as=LEAGUE_LIKE,
     ),
 )
 _BY_NAME = {spec.name: spec for spec in _SPECS}
@@ -315,3 +324,12 @@ def _reap() -> None:
 
 
 atexit.register(_reap)
+
+
+def recorded_as(world: World) -> str:
+    """The world a recording made in ``world`` names (``WorldSpec.recorded_as``), from its
+    class; a world no spec names (a test's own) counts as ours."""
+    for spec in _SPECS:
+        if type(world) is spec.world_class:
+            return spec.recorded_as
+    return _BY_NAME[MUJOCO].recorded_as
