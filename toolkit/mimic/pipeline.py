@@ -17,7 +17,7 @@ from mimic.learn.train import TARGET_REACHED, TrainConfig, train_model, training
 from mimic.model.model_file import save_model
 from mimic.recording.layout import JOINT_STATES
 from mimic.recording.recorder import record
-from mimic.trials.api import TrialResult, kick_trial, walk_trial
+from mimic.trials.api import TrialResult, kick_trial, trial_files, walk_trial
 from mimic.trials.report import STUDY_KICK, STUDY_WALK
 
 __all__ = [
@@ -85,7 +85,6 @@ def train_and_save(
 
 def demo_outputs(out_dir: Path) -> list[Path]:
     """The files ``demo`` writes into ``out_dir``."""
-    from mimic.trials.api import trial_files
 
     return [
         out_dir / "kick_right.mcap",
@@ -96,7 +95,6 @@ def demo_outputs(out_dir: Path) -> list[Path]:
 
 def paper_outputs(out_dir: Path) -> list[Path]:
     """The files ``reproduce_paper`` writes into ``out_dir``."""
-    from mimic.trials.api import trial_files
 
     return [
         out_dir / "kick_right.mcap",

@@ -20,6 +20,7 @@ import numpy as np
 from mimic.agents.base import Agent, JointCommand
 from mimic.model.foot_track import FootTrack
 from mimic.model.keys import BALANCE_GAINS_KEY, FOOT_TRACK_KEY, WALK_SPEED_KEY
+from mimic.model.model_file import load_model
 from mimic.model.motion_model import MotionModel
 from mimic.world.base import Observation
 
@@ -141,7 +142,6 @@ class NeuralPlayer(Agent):
     @classmethod
     def from_file(cls, path: str | Path, **kwargs) -> NeuralPlayer:
         """Load a ``.mimic`` model (raises ``ModelFileError`` for a bad file)."""
-        from mimic.model.model_file import load_model
 
         return cls(load_model(path), **kwargs)
 

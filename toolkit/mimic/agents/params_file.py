@@ -21,6 +21,7 @@ from pathlib import Path
 
 from mimic.agents.base import Agent
 from mimic.errors import MimicError
+from mimic.files import atomic_output
 
 __all__ = [
     "PARAM_ENGINES",
@@ -117,7 +118,6 @@ def params_from_dict(cls: type, data: dict, where: str = "params"):
 def save_params(agent: str, params, path: str | Path, provenance: dict | None = None) -> Path:
     """Write a parameter file (to a temporary name first, then moved into place)."""
     _engine(agent)
-    from mimic.files import atomic_output
 
     path = Path(path)
     doc = {

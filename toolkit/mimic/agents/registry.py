@@ -22,9 +22,15 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 
+from mimic.agents.balance import BalancedAgent
 from mimic.agents.base import Agent
+from mimic.agents.keyframe_player import KeyframePlayer
+from mimic.agents.neural_player import NeuralPlayer
+from mimic.agents.params_file import build_engine, load_params
 from mimic.errors import MimicError
-from mimic.robot.registry import DEFAULT_ROBOT
+from mimic.model.model_file import load_model
+from mimic.motion.files import list_motions, load_motion
+from mimic.robot.registry import DEFAULT_ROBOT, get_robot
 
 __all__ = [
     "AgentSpec",
@@ -107,13 +113,8 @@ class AgentSpec:
         if self.speed_m_s is not None and self.kind in ("motion", "params"):
             raise MimicError(f"{self.label} takes no speed command (--vx); a learned walk does")
         if self.kind == "motion":
-            from mimic.agents.keyframe_player import KeyframePlayer
-            from mimic.motion.files import load_motion
-
             return KeyframePlayer(load_motion(self.ref, self.robot))
         if self.kind == "model":
-            from mimic.agents.neural_player import NeuralPlayer
-
             agent = NeuralPlayer.from_file(self.ref, speed_m_s=self.speed_m_s)
             if self.speed_m_s is not None and not agent.model.cyclic:
                 raise MimicError(
@@ -122,13 +123,9 @@ class AgentSpec:
             if self.speed_rate != 1.0:
                 agent.speed_rate = self.speed_rate
             if self.balance:
-                from mimic.agents.balance import BalancedAgent
-
                 agent = BalancedAgent(agent)
             return agent
         if self.kind == "params":
-            from mimic.agents.params_file import build_engine, load_params
-
             return build_engine(*load_params(self.ref))
         target = ROBOT_BEHAVIOURS.get(self.robot, {}).get(self.ref) or BEHAVIOURS.get(self.ref)
         if self.speed_m_s is not None and self.ref not in _COMMANDED:
@@ -147,7 +144,6 @@ class AgentSpec:
     def check(self, robot: str | None = None) -> None:
         """Everything that can be checked before a run: the model file reads, and the
         agent can drive ``robot`` (default: the spec's). Raises ``MimicError``, one line."""
-        from mimic.robot.registry import get_robot
 
         self.build().check_robot(get_robot(robot or self.robot))
 
@@ -164,7 +160,6 @@ class AgentSpec:
 
 def agent_names(robot: str = DEFAULT_ROBOT) -> list[str]:
     """Every name ``agent_spec`` accepts besides files: shipped motions, then behaviours."""
-    from mimic.motion.files import list_motions
 
     motions = list_motions(robot)
     behaviours = [*BEHAVIOURS, *ROBOT_BEHAVIOURS.get(robot, {})]
@@ -198,15 +193,11 @@ def agent_spec(
             raise MimicError(f"{text!r} is a directory, not a model file; give a .mimic file")
         if not path.is_file():
             raise MimicError(f"model file {text!r} not found; train one with 'mimic train'")
-        from mimic.model.model_file import load_model
 
         return AgentSpec("model", text, load_model(text).robot, balance, speed_rate, speed_m_s)
     if text.endswith(".json"):
-        from mimic.agents.params_file import load_params
-
         load_params(text)  # one clear line now for a missing or bad file
         return AgentSpec("params", text, robot, balance, speed_rate, speed_m_s)
-    from mimic.motion.files import list_motions
 
     if text in list_motions(robot) or text.endswith(".txt"):
         if text.endswith(".txt") and not Path(text).is_file():
@@ -227,7 +218,6 @@ def make_agent(text: str, *, robot: str = DEFAULT_ROBOT) -> Agent:
     Raises:
         MimicError: bad spec, or an agent made for another robot.
     """
-    from mimic.robot.registry import get_robot
 
     agent = agent_spec(text, robot=robot).build()
     agent.check_robot(get_robot(robot))

@@ -9,6 +9,7 @@ from pathlib import Path
 
 import numpy as np
 
+from mimic.agents.registry import agent_spec
 from mimic.errors import MimicError
 from mimic.improve.objectives import make_objective
 from mimic.improve.search import SearchConfig, SearchResult, default_population, search
@@ -18,6 +19,7 @@ from mimic.tasks.registry import get_task
 from mimic.trials.api import TrialResult
 from mimic.trials.executors import Executor, make_executor
 from mimic.trials.report import write_summary
+from mimic.world.registry import check_world, default_robot, world_kind
 
 __all__ = ["improve", "ImproveRun", "default_checkpoint", "PICKS"]
 
@@ -112,8 +114,6 @@ def improve(
         MimicError: bad target, objective, budget, out suffix, checkpoint, Ray address, world,
             or a robot that the world or the target does not take.
     """
-    from mimic.agents.registry import agent_spec
-    from mimic.world.registry import check_world, default_robot, world_kind
 
     out = Path(out)
     obj = make_objective(objective, episodes) if isinstance(objective, str) else objective

@@ -22,6 +22,7 @@ from pathlib import Path
 import numpy as np
 
 from mimic.errors import MimicError
+from mimic.files import atomic_output
 from mimic.tasks.base import EpisodeBatch
 from mimic.trials.executors import Executor
 from mimic.trials.parallel import derive_seed, run_job
@@ -232,7 +233,6 @@ def _write_checkpoint(path: Path, settings: dict, generations: list[Generation])
         settings=settings,
         generations=[g.to_json() for g in generations],
     )
-    from mimic.files import atomic_output
 
     with atomic_output(path) as tmp:  # a checkpoint is replaced only by a whole new one
         tmp.write_text(json.dumps(doc))

@@ -23,9 +23,26 @@ from typing import Any
 
 import numpy as np
 
+from mimic.agents.balance import BalancedAgent, with_balance_gains
 from mimic.agents.base import Agent
+from mimic.agents.keyframe_player import KeyframePlayer
+from mimic.agents.neural_player import NeuralPlayer
+from mimic.agents.params_file import (
+    PARAM_ENGINES,
+    build_engine,
+    default_params,
+    load_params,
+    save_params,
+)
+from mimic.agents.registry import agent_spec
 from mimic.errors import MimicError
+from mimic.files import atomic_output
+from mimic.improve.correction import corrected_model
 from mimic.improve.space import Space
+from mimic.model.model_file import load_model, save_model
+from mimic.motion.files import format_motion, load_motion
+from mimic.motion.keyframe import KeyframeStep, Movement
+from mimic.robot.registry import get_robot
 
 __all__ = [
     "Target",
@@ -53,7 +70,6 @@ class MovementSpec:
         return self.movement.robot
 
     def build(self) -> Agent:
-        from mimic.agents.keyframe_player import KeyframePlayer
 
         return KeyframePlayer(self.movement)
 
@@ -79,12 +95,9 @@ class ModelSpec:
         return self.model.robot
 
     def build(self) -> Agent:
-        from mimic.agents.neural_player import NeuralPlayer
 
         agent = NeuralPlayer(self.model)
         if self.balance:
-            from mimic.agents.balance import BalancedAgent
-
             agent = BalancedAgent(agent)
         return agent
 
@@ -108,7 +121,6 @@ class ParamsSpec:
     robot: str = "nao"
 
     def build(self) -> Agent:
-        from mimic.agents.params_file import build_engine
 
         return build_engine(self.agent, self.params)
 
@@ -129,7 +141,6 @@ def resolve_joints(robot: str, joints: str) -> list[int]:
     Raises:
         MimicError: an unknown joint name (the message lists the robot's joints).
     """
-    from mimic.robot.registry import get_robot
 
     desc = get_robot(robot)
     if joints == "all":
@@ -179,7 +190,6 @@ class Target(ABC):
 
 
 def _atomic_write(path: Path, text: str) -> Path:
-    from mimic.files import atomic_output
 
     with atomic_output(path) as tmp:
         tmp.write_text(text)
@@ -196,7 +206,6 @@ class MotionTarget(Target):
     kind, suffix = "motion", ".txt"
 
     def __init__(self, text: str, movement, joints: str = "legs") -> None:
-        from mimic.robot.registry import get_robot
 
         robot = get_robot(movement.robot)
         self.movement, self.joints = movement, resolve_joints(movement.robot, joints)
@@ -225,7 +234,6 @@ class MotionTarget(Target):
         super().__init__(text, Space(tuple(names), base, scale, lower, upper), movement.name)
 
     def movement_at(self, z: np.ndarray):
-        from mimic.motion.keyframe import KeyframeStep, Movement
 
         v = self.space.values(z)
         n_steps, n_j = len(self.movement.steps), len(self.joints)
@@ -245,7 +253,6 @@ class MotionTarget(Target):
         return MovementSpec(self.movement_at(z), label or f"{self.label} (improved)")
 
     def write(self, z, path, provenance):
-        from mimic.motion.files import format_motion
 
         header = "".join(f"# {line}\n" for line in _provenance_lines(provenance))
         return _atomic_write(Path(path), header + format_motion(self.movement_at(z)))
@@ -304,14 +311,10 @@ class ModelTarget(Target):
 
     def _layer_gains(self):
         """The tilt gains the balance layer uses around the model as it is."""
-        from mimic.agents.balance import BalancedAgent
-        from mimic.agents.neural_player import NeuralPlayer
 
         return BalancedAgent(NeuralPlayer(self.model)).gains
 
     def model_at(self, z: np.ndarray, provenance: dict | None = None):
-        from mimic.agents.balance import with_balance_gains
-        from mimic.improve.correction import corrected_model
 
         v = self.space.values(z)
         n, d = len(self.model.joint_names), len(self.joints)
@@ -335,7 +338,6 @@ class ModelTarget(Target):
         return ModelSpec(self.model, self.label, self.balance)
 
     def write(self, z, path, provenance):
-        from mimic.model.model_file import save_model
 
         return save_model(self.model_at(z, provenance), Path(path))
 
@@ -415,7 +417,6 @@ class ParamsTarget(Target):
         return ParamsSpec(self.agent, self.params, self.label, self.robot)
 
     def write(self, z, path, provenance):
-        from mimic.agents.params_file import save_params
 
         return save_params(self.agent, self.params_at(z), Path(path), provenance)
 
@@ -438,17 +439,11 @@ def load_target(text: str, *, joints: str = "legs", robot: str = "nao") -> Targe
         MimicError: unknown name, missing or bad file, or an agent that has nothing to search
             (our walk engine, the other team's kick).
     """
-    from mimic.agents.params_file import PARAM_ENGINES, default_params, load_params
-    from mimic.agents.registry import agent_spec
 
     spec = agent_spec(text, robot=robot)
     if spec.kind == "motion":
-        from mimic.motion.files import load_motion
-
         return MotionTarget(text, load_motion(spec.ref, spec.robot), joints)
     if spec.kind == "model":
-        from mimic.model.model_file import load_model
-
         return ModelTarget(text, load_model(spec.ref), spec.balance, joints)
     engine = spec.kind == "params" or (spec.ref in PARAM_ENGINES and spec.ref in ENGINE_SEARCH)
     if engine and spec.robot != "nao":  # the parameter engines are the NAO's

@@ -15,8 +15,15 @@ from pathlib import Path
 
 import numpy as np
 
+from mimic.learn.dataset import dataset_from_frame
+from mimic.learn.presets import FAST, PAPER
+from mimic.learn.train import TrainConfig, train_model, train_models
+from mimic.model.network import LEAKY_SLOPE, Layout, init_params
+from mimic.recording.layout import ENDED_COLUMN, TIME_COLUMN
+from mimic.recording.paper_import import STUDY_ROBOT
 from mimic.robot.model import RobotDescription
 from mimic.robot.registry import DEFAULT_ROBOT, get_robot
+from mimic.world.base import CYCLE_S
 
 __all__ = ["BenchResult", "bench_train", "kick_dataset", "synthetic_dataset", "torch_baseline"]
 
@@ -45,10 +52,6 @@ def synthetic_dataset(
     ended flag."""
     import polars as pl
 
-    from mimic.learn.dataset import dataset_from_frame
-    from mimic.recording.layout import TIME_COLUMN
-    from mimic.world.base import CYCLE_S
-
     robot = get_robot(robot)
     shape = (3, robot.num_joints)  # three sines per joint
     rng = np.random.default_rng(seed)
@@ -70,10 +73,6 @@ def kick_dataset(path: Path | None = None):
     does not matter for fitting.
     """
     import polars as pl
-
-    from mimic.learn.dataset import dataset_from_frame
-    from mimic.recording.layout import ENDED_COLUMN, TIME_COLUMN
-    from mimic.recording.paper_import import STUDY_ROBOT
 
     path = path or (_PAPER_DATA / "kick_itandroids.txt")
     if not path.is_file():
@@ -100,8 +99,6 @@ def torch_baseline(dataset, params0: np.ndarray, epochs: int, lr: float = 1e-3):
     Starts from the same flat parameters as ours; returns (losses before each step, seconds).
     """
     import torch
-
-    from mimic.model.network import LEAKY_SLOPE, Layout
 
     layout = Layout.for_joints(dataset.num_joints)
     w = layout.widths
@@ -181,9 +178,6 @@ def bench_train(
 ) -> BenchResult:
     """Run the benchmark (about 10 s on an idle 2-core machine)."""
     _single_thread()
-    from mimic.learn.presets import FAST, PAPER
-    from mimic.learn.train import TrainConfig, train_model, train_models
-    from mimic.model.network import Layout, init_params
 
     ds = kick_dataset()
     data = "study kick (77 samples)"

@@ -5,7 +5,9 @@ too poor to trust. Each function returns warnings as one-line strings (the CLI p
 from __future__ import annotations
 
 from mimic.learn.dataset import Dataset
+from mimic.learn.window import describe_gaps
 from mimic.model.motion_model import MotionModel
+from mimic.motion.files import list_motions, load_motion
 
 __all__ = ["input_warnings", "fit_warnings", "POOR_FIT_MAE_RAD", "CYCLES_TO_LEARN"]
 
@@ -18,7 +20,6 @@ CYCLES_TO_LEARN = 10
 
 def _full_duration_s(name: str) -> float | None:
     """Length of a shipped keyframe motion [s], or None for other motions."""
-    from mimic.motion.files import list_motions, load_motion
 
     if name not in list_motions():
         return None
@@ -32,8 +33,6 @@ def input_warnings(dataset: Dataset) -> list[str]:
     meta = dataset.metadata
     gaps = meta.get("resampled_gaps")
     if gaps:
-        from mimic.learn.window import describe_gaps
-
         where = meta.get("source", dataset.name)
         return [
             f"{where}: {len(gaps)} gap{'s' if len(gaps) > 1 else ''} in the samples "

@@ -19,7 +19,10 @@ import numpy as np
 import polars as pl
 
 from mimic.errors import DatasetError, MimicError
+from mimic.files import input_file
 from mimic.recording.layout import ENDED_COLUMN, TIME_COLUMN
+from mimic.recording.paper_import import STUDY_ROBOT, read_paper_table
+from mimic.recording.reader import read_joint_table, read_recording
 from mimic.robot.model import RobotDescription
 from mimic.robot.registry import DEFAULT_ROBOT, get_robot
 
@@ -184,8 +187,6 @@ def _read_table(path: Path, topic: str | None):
     text file (NAO data)."""
     suffix = path.suffix.lower()
     if suffix == ".mcap":
-        from mimic.recording.reader import read_joint_table, read_recording
-
         rec = read_recording(path)
         topic = topic or rec.joint_topic()
         frame = read_joint_table(rec, topic)
@@ -222,8 +223,6 @@ def _read_table(path: Path, topic: str | None):
         meta.setdefault("motion", path.stem)
         return frame, robot, meta, period
     if suffix == ".txt":
-        from mimic.recording.paper_import import STUDY_ROBOT, read_paper_table
-
         frame = read_paper_table(path)
         meta = {"source": str(path), "topic": "paper", "motion": path.stem, "team": "paper"}
         return frame, STUDY_ROBOT, meta, None
@@ -246,7 +245,6 @@ def dataset_from_file(
         DatasetError: unreadable content for a dataset (see ``dataset_from_frame``);
         RecordingError: the recording cannot be read.
     """
-    from mimic.files import input_file
 
     try:
         path = input_file(path, "file", "give a .mcap recording or a study .txt table")

@@ -25,6 +25,7 @@ from pathlib import Path
 import numpy as np
 
 from mimic import __version__
+from mimic.files import atomic_output
 from mimic.model.motion_model import INPUT_PHASE, MotionModel
 from mimic.model.network import LEAKY_SLOPE
 
@@ -140,8 +141,6 @@ def export_onnx(model: MotionModel, path: str | Path, *, overwrite: bool = True)
     """Write ``model`` as an ONNX file (under a temporary name, moved into place when
     complete, see ``mimic.files``); returns the path."""
     import onnx
-
-    from mimic.files import atomic_output
 
     path = Path(path)
     proto = model_to_onnx(model)

@@ -29,6 +29,7 @@ import numpy as np
 
 from mimic.errors import DatasetError
 from mimic.learn.dataset import Dataset, dataset_from_file
+from mimic.learn.train import training_dataset
 from mimic.world.base import CYCLE_S
 
 __all__ = ["Alignment", "align_shift_s", "merged_training_dataset"]
@@ -146,7 +147,6 @@ def merged_training_dataset(
             cyclic motion; a recording that does not overlap the first; a cut outside one;
             a first recording that differs from the others.
     """
-    from mimic.learn.train import training_dataset
 
     if len(paths) < 2:
         raise DatasetError("--merge pools several recordings of one motion: give at least two")

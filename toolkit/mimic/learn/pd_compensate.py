@@ -84,6 +84,7 @@ from mimic.geometry import one_hemisphere, quat_mul
 from mimic.robot.actuators import PDMotors
 from mimic.robot.model import RobotDescription
 from mimic.robot.registry import get_robot
+from mimic.world.mujoco_world import MujocoWorld
 
 __all__ = [
     "PdCompensationConfig",
@@ -208,7 +209,6 @@ def pd_references(
         MimicError: the robot has no PD motors, the arrays disagree in shape, or the samples
             are too few or unevenly spaced.
     """
-    from mimic.world.mujoco_world import MujocoWorld
 
     robot = get_robot(robot)
     motors = pd_motors(robot)

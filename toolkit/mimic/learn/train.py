@@ -17,13 +17,36 @@ from pathlib import Path
 import numpy as np
 from threadpoolctl import threadpool_limits
 
-from mimic import __version__
-from mimic.errors import MimicError
+from mimic import __version__, options
+from mimic.errors import DatasetError, MimicError
 from mimic.geometry import in_robot_frame, one_hemisphere, yaw_from_quat
-from mimic.learn.dataset import Dataset
+from mimic.learn.compensate import compensate_references
+from mimic.learn.dataset import (
+    Dataset,
+    as_cyclic,
+    cut_dataset,
+    dataset_from_file,
+    detect_period_s,
+    drop_non_repeating,
+    symmetric_cycle,
+)
+from mimic.learn.foot_track import foot_track
+from mimic.learn.pd_compensate import pd_references
+from mimic.learn.posture import start_posture
 from mimic.learn.presets import FAST, Preset
+from mimic.learn.steps import find_steps
+from mimic.learn.window import window
+from mimic.model.keys import FOOT_TRACK_KEY
 from mimic.model.motion_model import INPUT_PHASE, INPUT_TIME, MotionModel
 from mimic.model.network import AdamTrainer, Layout, init_params
+from mimic.recording import layout as L
+from mimic.recording.layout import JOINT_STATES
+from mimic.recording.reader import read_recording, read_tf
+from mimic.robot.actuators import PDMotors, SpeedServos
+from mimic.robot.registry import get_robot
+from mimic.world.base import CYCLE_S
+from mimic.world.kinematics import FootKinematics
+from mimic.world.registry import get_world
 
 __all__ = [
     "TrainConfig",
@@ -54,7 +77,6 @@ class TrainConfig:
     log_every: int = 250
 
     def __post_init__(self) -> None:
-        from mimic import options
 
         options.seed(self.seed)
         options.count(self.epochs, "--epochs")
@@ -290,21 +312,6 @@ def training_dataset(
         MimicError: ``compensated`` asked for a PD-motor robot's recording without a torso
             pose.
     """
-    from mimic.errors import DatasetError
-    from mimic.learn.compensate import compensate_references
-    from mimic.learn.dataset import (
-        as_cyclic,
-        cut_dataset,
-        dataset_from_file,
-        detect_period_s,
-        drop_non_repeating,
-        symmetric_cycle,
-    )
-    from mimic.learn.window import window
-    from mimic.model.keys import FOOT_TRACK_KEY
-    from mimic.recording.layout import JOINT_STATES
-    from mimic.robot.actuators import PDMotors, SpeedServos
-    from mimic.robot.registry import get_robot
 
     if target not in (None, TARGET_REACHED, TARGET_COMPENSATED):
         raise DatasetError(
@@ -428,8 +435,6 @@ _CYCLE_RATIO = (0.8, 1.25)
 def _steps(seen: Dataset, torso_quat: np.ndarray, robot, required: bool):
     """The walk's steps (``learn.steps.find_steps``) over the cut ``seen``; None if there are
     none and they were not ``required``."""
-    from mimic.learn.steps import find_steps
-    from mimic.world.kinematics import FootKinematics
 
     kin = FootKinematics(robot)
     feet_z = np.stack([kin.feet_height_m(q, quat) for q, quat in zip(seen.angles_rad, torso_quat)])
@@ -443,7 +448,6 @@ def _steps(seen: Dataset, torso_quat: np.ndarray, robot, required: bool):
 
 def _check_period(period_s: float, steps, period) -> None:
     """Refuse a cyclic motion's period that is not the cycle of two steps its feet show."""
-    from mimic.errors import DatasetError
 
     ratio = period_s / steps.period_s
     if _CYCLE_RATIO[0] <= ratio <= _CYCLE_RATIO[1]:
@@ -466,7 +470,6 @@ def _foot_track(phase_time_s, angles_rad, torso_quat, robot, period_s):
     the torso by phase, for the balance layer's foot placement), from the observed angles and
     the torso's orientation over the cut, each sample at its phase ``phase_time_s /
     period_s``; None without two legs."""
-    from mimic.learn.foot_track import foot_track
 
     try:
         return foot_track(phase_time_s, angles_rad, torso_quat, robot, period_s)
@@ -496,8 +499,6 @@ class _RecordedTf:
 
     @classmethod
     def read(cls, path, ds: Dataset) -> _RecordedTf | None:
-        from mimic.recording import layout as L
-        from mimic.recording.reader import read_recording, read_tf
 
         if Path(path).suffix.lower() != ".mcap":
             return None
@@ -534,7 +535,6 @@ class _RecordedTf:
     def start_posture(self, robot, cut_s: list[float] | None) -> str | None:
         """How the robot lay or stood at the motion's first sample (``learn.posture``), from
         its torso pose; None without a torso."""
-        from mimic.learn.posture import start_posture
 
         torso = self.torso_at_samples(robot, np.array([(cut_s or [0.0])[0]]))
         return None if torso is None else start_posture(torso[0][0], torso[1][0], robot)
@@ -542,7 +542,6 @@ class _RecordedTf:
     def ball_offset_m(self, robot, cut_s: list[float] | None) -> list[float] | None:
         """Where the ball lay in the robot frame (x forward, y left of the torso [m]) at the
         motion's first sample (a black-box kick wants the ball there), or None."""
-        from mimic.recording import layout as L
 
         ball, torso = self.tracks.get(L.BALL_FRAME), self.tracks.get(robot.root_link)
         if ball is None or torso is None:
@@ -567,9 +566,6 @@ def pd_compensated_targets(
     """(T, N) PD references for observed samples (``learn.pd_compensate.pd_references``), sent
     early by the command delay of ``world`` (``league`` or ours), as ``mimic train`` learns
     them."""
-    from mimic.learn.pd_compensate import pd_references
-    from mimic.world.base import CYCLE_S
-    from mimic.world.registry import get_world
 
     refs = pd_references(time_s, angles_rad, torso_pos_m, torso_quat_wxyz, robot).references_rad
     # A reference acts from the cycle after it is sent (the league server: one cycle later

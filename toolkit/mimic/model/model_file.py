@@ -23,7 +23,7 @@ import numpy as np
 from mimic import __version__
 from mimic.errors import MimicError, ModelFileError
 from mimic.files import atomic_output, input_file
-from mimic.model.motion_model import MotionModel
+from mimic.model.motion_model import INPUT_PHASE, INPUT_TIME, MotionModel
 from mimic.model.network import Layout
 from mimic.robot.registry import DEFAULT_ROBOT, get_robot
 
@@ -252,7 +252,6 @@ def _check_meta(path: Path, meta: dict) -> None:
     Raises:
         ModelFileError: a field missing or of the wrong type or range.
     """
-    from mimic.model.motion_model import INPUT_PHASE, INPUT_TIME
 
     def bad(field: str, want: str) -> ModelFileError:
         shown = json.dumps(meta.get(field), default=str)

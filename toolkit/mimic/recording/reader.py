@@ -22,7 +22,8 @@ from mcap.records import Channel, Footer, Message, Metadata, Schema
 from mcap.stream_reader import StreamReader
 from mcap_ros2.decoder import DecoderFactory
 
-from mimic.errors import RecordingError
+from mimic.errors import MimicError, RecordingError
+from mimic.files import input_file
 from mimic.geometry import quat_mul as _quat_mul
 from mimic.geometry import rotate as _rotate
 from mimic.recording import layout as L
@@ -165,8 +166,6 @@ def read_recording(path: str | Path) -> Recording:
     Raises:
         RecordingError: missing file, a folder, or not an MCAP file at all.
     """
-    from mimic.errors import MimicError
-    from mimic.files import input_file
 
     try:
         path = input_file(path, "recording", "record one with 'mimic record'")

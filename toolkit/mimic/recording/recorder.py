@@ -21,6 +21,7 @@ import numpy as np
 
 from mimic import __version__
 from mimic.agents.base import Agent
+from mimic.agents.registry import make_agent
 from mimic.episode import Observer, Scene, run
 from mimic.episode.scene import SETTLE_S
 from mimic.errors import MimicError
@@ -229,8 +230,6 @@ def record(
         A ``RecordResult``; ``interrupted`` is True when Ctrl-C stopped it (the file is valid).
     """
     if isinstance(agent, str):
-        from mimic.agents.registry import make_agent
-
         agent = make_agent(agent)
     if duration_s is not None and not duration_s > 0:
         raise MimicError(f"--duration must be > 0 s, got {duration_s}")

@@ -14,6 +14,7 @@ from mimic.robot.actuators import SpeedServos
 from mimic.robot.description import BODIES
 from mimic.robot.joints import JOINTS
 from mimic.robot.model import FallThresholds, JointSpec, LinkSpec, RobotDescription
+from mimic.robot.urdf import robot_urdf
 
 __all__ = ["nao", "NAO_STAND_DEG"]
 
@@ -74,7 +75,6 @@ def _joints() -> tuple[JointSpec, ...]:
 @cache
 def nao() -> RobotDescription:
     """The NAO of the study's simulator: 22 speed-servo hinges, 4.6 kg."""
-    from mimic.robot.urdf import robot_urdf
 
     return RobotDescription(
         name="nao",

@@ -7,7 +7,9 @@ for, so listing names is cheap.
 from __future__ import annotations
 
 from mimic.errors import MimicError
+from mimic.robot.league import league_robot
 from mimic.robot.model import RobotDescription
+from mimic.robot.nao import nao
 
 __all__ = ["get_robot", "robot_names", "DEFAULT_ROBOT", "UnknownRobotError"]
 
@@ -31,11 +33,7 @@ def get_robot(name: str | RobotDescription | None = None) -> RobotDescription:
         return name
     key = (name or DEFAULT_ROBOT).lower()
     if key in ("nao", "nao_type0"):  # nao_type0: what older recordings call it
-        from mimic.robot.nao import nao
-
         return nao()
     if key in _LEAGUE:
-        from mimic.robot.league import league_robot
-
         return league_robot(key)
     raise UnknownRobotError(f"unknown robot {name!r}; known robots: {', '.join(robot_names())}")

@@ -21,7 +21,10 @@ import numpy as np
 import polars as pl
 
 from mimic import options
+from mimic.agents.hold import HoldPose
 from mimic.agents.registry import AgentSpec
+from mimic.agents.walk import make_walk_agent
+from mimic.agents.walk.goto import GoToPose, pose_behind_ball
 from mimic.episode import Episode, PoseNoise, PoseTrace, Scene
 from mimic.episode.disturbance import EpisodeDisturbances
 from mimic.episode.scene import BALL_ASIDE_M, SETTLE_S
@@ -178,8 +181,6 @@ def _walk_to_ball(
 ) -> str:
     """Walk behind the ball facing the goal until lined up: ``arrived``, ``fell``, ``timeout``
     (the walk took too long) or ``not lined up`` (every attempt ended off the ball)."""
-    from mimic.agents.walk import make_walk_agent
-    from mimic.agents.walk.goto import GoToPose, pose_behind_ball
 
     world = episode.world
     deadline_s = world.time_s + min(config.walk_timeout_s, limit_s - world.time_s)
@@ -210,8 +211,6 @@ def _place_behind_ball(
     """Put the robot behind the ball facing the goal, with the start's noise drawn from
     ``rng`` (x, y, heading, joints), and let it settle into its stand: ``arrived`` or
     ``fell``."""
-    from mimic.agents.hold import HoldPose
-    from mimic.agents.walk.goto import pose_behind_ball
 
     world, robot = episode.world, episode.world.robot
     ball = world.ball_pos_m()[:2].copy()

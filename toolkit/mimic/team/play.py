@@ -27,11 +27,13 @@ import numpy as np
 from mimic import __version__
 from mimic.agents.base import Agent
 from mimic.agents.hold import HoldPose
+from mimic.agents.registry import kick_ball_offset_m, make_agent
 from mimic.episode import Observer, Scene, run
 from mimic.league.errors import LeagueConnectionError, LeagueError
 from mimic.recording import layout as L
 from mimic.recording.recorder import McapObserver, PerceivedTf
 from mimic.recording.writer import RecordingWriter
+from mimic.robot.registry import get_robot
 from mimic.sigint import SigintFlag
 from mimic.world.base import CYCLE_S, POSTURES
 from mimic.world.league_server import LeagueWorld, LeagueWorldConfig
@@ -133,12 +135,9 @@ def play(
         MimicError: an agent made for another robot, a bad spec, bad options.
     """
     if isinstance(agent, str):
-        from mimic.agents.registry import make_agent
-
         agent = make_agent(agent, robot=robot)
     if seconds is not None and not seconds > 0:
         raise LeagueError(f"--seconds must be > 0, got {seconds}")
-    from mimic.robot.registry import get_robot
 
     agent.check_robot(get_robot(robot))
     config = LeagueWorldConfig(team=team, player=player)
@@ -146,8 +145,6 @@ def play(
         SigintFlag() as sigint,
         LeagueWorld(robot, agent_address=agent_address, config=config) as world,
     ):
-        from mimic.agents.registry import kick_ball_offset_m
-
         ball_offset = kick_ball_offset_m(agent) if world.server is not None else None
         if agent.start_posture not in POSTURES:
             raise LeagueError(

@@ -23,6 +23,8 @@ from collections.abc import Callable, Iterable
 from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 from typing import Any
 
+import mimic.tasks.kick  # noqa: F401
+import mimic.tasks.walk  # noqa: F401
 from mimic.errors import MimicError
 
 __all__ = [
@@ -120,8 +122,6 @@ class InlineExecutor(Executor):
 
 def _warm_up() -> None:
     """Import the simulator and the episodes in a fresh worker process."""
-    import mimic.tasks.kick  # noqa: F401
-    import mimic.tasks.walk  # noqa: F401
 
 
 class _Inline:

@@ -12,6 +12,7 @@ from __future__ import annotations
 import time
 from dataclasses import dataclass
 
+from mimic.agents.registry import AgentSpec
 from mimic.tasks.walk import WalkTrialConfig, run_walk_episode
 from mimic.trials.executors import InlineExecutor, PoolExecutor, RayExecutor
 from mimic.trials.parallel import run_episodes
@@ -69,7 +70,6 @@ def bench_scaling(
     Raises:
         MimicError: Ray asked for but not installed.
     """
-    from mimic.agents.registry import AgentSpec
 
     spec = AgentSpec("behaviour", "walk")
     config = WalkTrialConfig(timeout_s=timeout_s)

@@ -27,7 +27,8 @@ import numpy as np
 from mimic.agents.keyframe_player import KeyframePlayer
 from mimic.agents.registry import agent_spec
 from mimic.episode import PoseNoise, Scene
-from mimic.motion.files import load_motion
+from mimic.motion.files import list_motions, load_motion
+from mimic.robot.actuators import JointCommand
 from mimic.tasks import kick_from_stand
 from mimic.tasks.kick_from_stand import After, KickFromStandConfig
 from mimic.world.base import CYCLE_S
@@ -93,7 +94,6 @@ class WorldSpeed:
 
 def default_kick(robot: str) -> str | None:
     """The robot's shipped ``kick_right``, if it has one."""
-    from mimic.motion.files import list_motions
 
     return "kick_right" if "kick_right" in list_motions(robot) else None
 
@@ -157,7 +157,6 @@ def bench_bare(robot: str = "t1", *, seconds: float = 20.0) -> WorldSpeed:
     """Time bare ``mj_step`` of the league's model (rcsssmj's, as the league world compiles it
     with ``robot`` in it) for ``seconds`` of simulated time: the robot standing behind the
     ball, holding its stand pose, 4 physics steps per cycle as the league steps them."""
-    from mimic.robot.actuators import JointCommand
 
     with open_world(LEAGUE, robot) as w:
         Scene(robot_xy_m=(-0.3, 0.0), ball_offset_m=(0.3, 0.0), settle_s=_STAND_S).setup(

@@ -16,6 +16,7 @@ import numpy as np
 
 from mimic.robot.model import RobotDescription
 from mimic.robot.registry import get_robot
+from mimic.world.scene import PhysicsConfig, build_model
 
 __all__ = ["Shape", "LinkBody", "link_bodies"]
 
@@ -69,7 +70,6 @@ def link_bodies(robot: str | RobotDescription) -> tuple[LinkBody, ...]:
 
 @cache
 def _link_bodies(robot_name: str) -> tuple[LinkBody, ...]:
-    from mimic.world.scene import PhysicsConfig, build_model
 
     robot = get_robot(robot_name)
     m = build_model(robot, PhysicsConfig.for_robot(robot))

@@ -11,6 +11,8 @@ import rerun as rr
 import rerun.blueprint as rrb
 
 from mimic.viz.paths import WORLD
+from mimic.viz.save import save_rrd
+from mimic.viz.trials import log_trial
 
 __all__ = ["log_improve", "improve_blueprint", "save_improve"]
 
@@ -54,8 +56,6 @@ def log_improve(rec: rr.RecordingStream, run) -> None:
     )
     rec.log("improve/best", rr.TextDocument(text, media_type="text/markdown"), static=True)
     if run.validation is not None:
-        from mimic.viz.trials import log_trial
-
         log_trial(rec, run.validation)
 
 
@@ -85,7 +85,6 @@ def improve_blueprint(run) -> rrb.Blueprint:
 
 def save_improve(run, path: Path) -> None:
     """Write the run to an .rrd file with its blueprint (moved into place when complete)."""
-    from mimic.viz.save import save_rrd
 
     rec = rr.RecordingStream("mimic_improve")
     save_rrd(rec, path, lambda: log_improve(rec, run), blueprint=improve_blueprint(run))

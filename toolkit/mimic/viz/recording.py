@@ -13,8 +13,11 @@ import polars as pl
 import rerun as rr
 import rerun.blueprint as rrb
 
+from mimic.agents.neural_player import NeuralPlayer
 from mimic.errors import MimicError
 from mimic.learn.compensate import compensate_references
+from mimic.learn.train import TARGET_COMPENSATED, training_dataset
+from mimic.model.model_file import load_model
 from mimic.recording.layout import (
     BALL_FRAME,
     ENDED,
@@ -24,6 +27,7 @@ from mimic.recording.layout import (
     TIME_COLUMN,
 )
 from mimic.recording.reader import Recording, read_joint_table, read_recording, read_tf
+from mimic.recording.recorder import RecordConfig, record
 from mimic.robot.actuators import SpeedServos
 from mimic.robot.model import RobotDescription
 from mimic.viz.curves import curves_blueprint, joint_columns, log_joint_table
@@ -76,8 +80,6 @@ def log_recording(rec: rr.RecordingStream, path: str | Path | Recording, *, mode
         )
         logged["ended"] = True
     if model is not None:
-        from mimic.model.model_file import load_model
-
         loaded = load_model(model) if isinstance(model, (str, Path)) else model
         if loaded.robot != robot.name:
             raise MimicError(
@@ -99,7 +101,6 @@ def log_recording(rec: rr.RecordingStream, path: str | Path | Recording, *, mode
             logged["series"].append("compensated")
         elif JOINT_STATES in recording.topics and recording.path is not None:
             # PD motors: compensated from the torso pose too, when the recording has it.
-            from mimic.learn.train import TARGET_COMPENSATED, training_dataset
 
             try:
                 ds = training_dataset(recording.path, JOINT_STATES, TARGET_COMPENSATED)
@@ -174,9 +175,6 @@ def _replayed_table(model, recording) -> pl.DataFrame:
     (through the recorder, so the robot starts and the ball lies as ``mimic record`` has them)."""
     import tempfile
 
-    from mimic.agents.neural_player import NeuralPlayer
-    from mimic.recording.recorder import RecordConfig, record
-
     with tempfile.TemporaryDirectory() as tmp:
         out = Path(tmp) / "replay.mcap"
         player = NeuralPlayer(model)
@@ -217,7 +215,6 @@ def view_recording(
     leaves no file and an existing ``save`` untouched. ``overwrite`` False refuses to replace
     an existing ``save``.
     """
-    from mimic.model.model_file import load_model
 
     recording = read_recording(path)
     loaded = load_model(model) if model is not None else None

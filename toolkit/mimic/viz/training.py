@@ -12,6 +12,8 @@ from pathlib import Path
 
 import numpy as np
 
+from mimic.files import PendingOutput
+
 __all__ = ["TrainingCurves"]
 
 
@@ -36,8 +38,6 @@ class TrainingCurves:
         overwrite: bool = True,
     ) -> None:
         import rerun as rr
-
-        from mimic.files import PendingOutput
 
         self._rr = rr
         self.rec = rr.RecordingStream(application_id)

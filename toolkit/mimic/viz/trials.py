@@ -17,6 +17,7 @@ from mimic.robot.registry import DEFAULT_ROBOT
 from mimic.tasks.registry import get_task
 from mimic.trials.report import to_markdown
 from mimic.viz.paths import TIMELINE, WORLD
+from mimic.viz.save import save_rrd
 from mimic.viz.scene import (
     log_ball_poses,
     log_ball_shape,
@@ -148,7 +149,6 @@ def trial_blueprint(result) -> rrb.Blueprint:
 def save_trial_dashboard(result, path: Path, *, overwrite: bool = True) -> None:
     """Write the dashboard of a trial to an .rrd file with its blueprint (under a temporary
     name, moved into place when complete: ``mimic.files``)."""
-    from mimic.viz.save import save_rrd
 
     rec = rr.RecordingStream("mimic_trial")
     save_rrd(

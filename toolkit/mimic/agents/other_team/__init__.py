@@ -11,6 +11,7 @@ from __future__ import annotations
 
 from dataclasses import replace
 
+from mimic.agents.other_team.kick import OtherTeamKick
 from mimic.agents.other_team.params import KickParams, WalkParams
 from mimic.agents.other_team.walk import OtherTeamWalk
 
@@ -27,6 +28,5 @@ def make_walk(vx_m_s: float | None = None) -> OtherTeamWalk:
 
 def make_kick():
     """The team's right-foot kick; its ``ball_offset_m`` says where it wants the ball."""
-    from mimic.agents.other_team.kick import OtherTeamKick
 
     return OtherTeamKick(KickParams())

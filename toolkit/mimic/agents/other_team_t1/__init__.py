@@ -14,7 +14,9 @@ from __future__ import annotations
 
 from dataclasses import replace
 
+from mimic.agents.other_team_t1.kick import OtherTeamT1Kick
 from mimic.agents.other_team_t1.params import KickParams, PolicyWalkParams, WalkParams
+from mimic.agents.other_team_t1.policy_walk import OtherTeamT1PolicyWalk
 from mimic.agents.other_team_t1.walk import OtherTeamT1Walk
 
 __all__ = [
@@ -40,7 +42,6 @@ def make_policy_walk(vx_m_s: float | None = None):
     """The team's walk as a learned policy walks (``policy_walk``): toward a target 20 m
     ahead seen with noise, a step time that adapts every step; forward at ``vx_m_s`` [m/s]
     (default: its command's)."""
-    from mimic.agents.other_team_t1.policy_walk import OtherTeamT1PolicyWalk
 
     command = PolicyWalkParams()
     if vx_m_s is not None:
@@ -50,6 +51,5 @@ def make_policy_walk(vx_m_s: float | None = None):
 
 def make_kick():
     """The team's T1 right-foot kick; its ``ball_offset_m`` says where it wants the ball."""
-    from mimic.agents.other_team_t1.kick import OtherTeamT1Kick
 
     return OtherTeamT1Kick(KickParams())
