@@ -1,7 +1,8 @@
 """Seeded physical outcome checks of our keyframe motions: kicks, get-ups, standing.
 
-The kick and standing are the ``kick-from-stand`` and ``stand`` tasks (``mimic.tasks``) with
-the configs of these checks. Each check builds a fresh world for the motion's robot (our
+The kick, the get-up and standing are the ``kick-from-stand``, get-up (``tasks.getup``, the
+get-up trial's episode) and ``stand`` tasks (``mimic.tasks``) with the configs of these
+checks. Each check builds a fresh world for the motion's robot (our
 MuJoCo world; for a league robot on the league's field and ball) or uses the one it is given
 (``world=``: the league server's ``LeagueWorld``), sets up a scene with small random
 perturbations drawn from ``np.random.default_rng(seed)``, plays the motion with
@@ -17,15 +18,15 @@ from dataclasses import dataclass
 import numpy as np
 
 from mimic.agents.keyframe_player import KeyframePlayer
-from mimic.episode import Scene, UprightLog, run
 from mimic.episode.scene import SETTLE_S
 from mimic.errors import MotionFileError
 from mimic.motion.keyframe import Movement
 from mimic.tasks import kick_from_stand, stand
+from mimic.tasks.getup import GetupTrialConfig, play_getup
 from mimic.tasks.kick_from_stand import KickFromStandConfig, Standing
 from mimic.tasks.perturbation import NO_PERTURBATION, Perturbation
 from mimic.tasks.stand import StandConfig
-from mimic.world.base import CYCLE_S, World
+from mimic.world.base import World
 from mimic.world.mujoco_world import MujocoWorld
 
 __all__ = [
@@ -143,28 +144,20 @@ def run_getup(
         raise ValueError(f"side must be 'front' or 'back', got {side!r}")
     p = perturbation if perturb else NO_PERTURBATION
     world = world if world is not None else MujocoWorld(movement.robot)
-    Scene(
-        posture=f"lying_{side}",
-        noise=p.noise(),
-        settle_s=settle_s,
-        pose_rad=None if lying_pose_rad is None else tuple(lying_pose_rad),
-    ).setup(world, np.random.default_rng(seed))
-    log = UprightLog()
-    run(
+    # The get-up task with the check's settings: the player holds its last keyframe
+    # ``after_s`` itself, so nothing is held after it.
+    config = GetupTrialConfig(
+        side=side, settle_s=settle_s, timeout_s=movement.duration_s + after_s + 1.0, after_s=0.0
+    )
+    getup, _ = play_getup(
         world,
         KeyframePlayer(movement, hold_s=after_s),
-        max_s=movement.duration_s + after_s + 1.0,
-        observers=(log,),
+        seed,
+        config,
+        noise=p.noise(),
+        pose_rad=lying_pose_rad,
     )
-    upright = log.upright
-    if not world.upright():
-        return GetupOutcome(False, None)
-    # The last cycles seen by the observer precede the final state: count back the run of
-    # upright cycles that reaches the end.
-    k = len(upright)
-    while k > 0 and upright[k - 1]:
-        k -= 1
-    return GetupOutcome(True, k * CYCLE_S)
+    return GetupOutcome(getup.stood, getup.time_to_stand_s)
 
 
 def run_stand(

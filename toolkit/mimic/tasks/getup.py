@@ -18,11 +18,12 @@ from typing import ClassVar
 import numpy as np
 import polars as pl
 
+from mimic.agents.base import Agent
 from mimic.agents.hold import HoldPose
 from mimic.agents.registry import AgentSpec
 from mimic.episode import Episode, PoseNoise, PoseTrace, Scene, run
 from mimic.episode.disturbance import EpisodeDisturbances
-from mimic.episode.observers import Observer, UprightLog
+from mimic.episode.observers import EpisodeTrace, Observer, UprightLog
 from mimic.episode.scene import SETTLE_S
 from mimic.errors import MimicError
 from mimic.stats import mean_interval, wilson_interval
@@ -36,7 +37,7 @@ from mimic.tasks.base import (
     ci_columns,
     first_value,
 )
-from mimic.world.base import CYCLE_S
+from mimic.world.base import CYCLE_S, World
 from mimic.world.registry import open_world, world_kind
 
 __all__ = [
@@ -47,6 +48,7 @@ __all__ = [
     "GetupTrialConfig",
     "run_getup_episode",
     "getup_scene",
+    "play_getup",
     "SIDES",
 ]
 
@@ -103,8 +105,15 @@ class GetupTrialConfig:
         return side
 
 
-def getup_scene(config: GetupTrialConfig, side: str) -> Scene:
-    """Lying on ``side`` at the field's centre facing +x, in the stand pose with noise."""
+def getup_scene(
+    config: GetupTrialConfig,
+    side: str,
+    *,
+    noise: PoseNoise | None = None,
+    pose_rad: np.ndarray | None = None,
+) -> Scene:
+    """Lying on ``side`` at the field's centre facing +x, in the stand pose (or ``pose_rad``,
+    (N,) [rad]) with the config's noise (or ``noise``)."""
     return Scene(
         posture=f"lying_{side}",
         settle_s=config.settle_s,
@@ -113,7 +122,10 @@ def getup_scene(config: GetupTrialConfig, side: str) -> Scene:
             yaw_rad=config.start_noise_yaw_rad,
             joint_rad=config.start_noise_joint_rad,
             distribution="uniform",
-        ),
+        )
+        if noise is None
+        else noise,
+        pose_rad=None if pose_rad is None else tuple(pose_rad),
     )
 
 
@@ -139,13 +151,31 @@ def run_getup_episode(
 def _play_getup_episode(
     world, getup: AgentSpec, seed: int, config: GetupTrialConfig
 ) -> tuple[list[dict], dict]:
+    run_row, trace = play_getup(world, getup.build(), seed, config)
+    row = as_row(run_row)
+    summary = dict(row, trace=trace) if trace is not None else row
+    return [row], summary
+
+
+def play_getup(
+    world: World,
+    agent: Agent,
+    seed: int,
+    config: GetupTrialConfig,
+    *,
+    noise: PoseNoise | None = None,
+    pose_rad: np.ndarray | None = None,
+) -> tuple[GetupRun, EpisodeTrace | None]:
+    """One get-up of ``agent`` in ``world`` (module docstring): the run's row and, with
+    ``config.trace``, its pose trace. ``noise`` and ``pose_rad``: the lying robot's start
+    noise and pose, in place of the config's noise and the stand pose (``getup_scene``)."""
     disturb = EpisodeDisturbances(config.disturb, seed, world)
     disturb.apply_physics(world)
-    agent = getup.build()
     side = config.side_for(agent.start_posture)
     trace = PoseTrace() if config.trace else None
     episode = Episode(world, observers=(trace, disturb.pusher) if trace else (disturb.pusher,))
-    getup_scene(config, side).setup(world, np.random.default_rng(seed), observers=episode.watchers)
+    scene = getup_scene(config, side, noise=noise, pose_rad=pose_rad)
+    scene.setup(world, np.random.default_rng(seed), observers=episode.watchers)
     disturb.start_delay(episode, lying=True)
     log = UprightLog()
     highest = _Highest()
@@ -181,9 +211,7 @@ def _play_getup_episode(
         world=world_kind(config.world),
         disturbances=disturb.columns(),
     )
-    row = as_row(run_row)
-    summary = dict(row, trace=disturb.traced(trace.trace())) if trace is not None else row
-    return [row], summary
+    return run_row, None if trace is None else disturb.traced(trace.trace())
 
 
 @dataclass(frozen=True)
