@@ -82,6 +82,32 @@ def test_model_target_searches_a_time_warp_and_leg_offsets_and_gains(tmp_path):
     assert target.spec(np.zeros(25)).ball_offset_m() == (0.16, -0.07)
 
 
+def test_a_windowed_correction_acts_in_its_window_and_is_written_as_an_ordinary_model(
+    tmp_path, monkeypatch
+):
+    """``--window A,B``: offsets and gains only from A to B (faded in over 0.2 s), the rest of
+    the motion as learned; the file written is a network trained on the corrected output."""
+    path = save_model(_tiny_model(), tmp_path / "kick.mimic")
+    target = load_target(str(path), window_s=(0.6, 1.0))
+    z = np.zeros(target.space.dim)
+    z[target.space.names.index("offset.right_knee_pitch")] = 3.0  # 0.09 rad
+    played = target.spec(z).model
+    knee = target.model.joint_names.index("right_knee_pitch")
+    t = np.array([0.2, 0.59, 0.7, 0.8, 0.9, 1.2])
+    shift = played.predict(t)[:, knee] - target.model.predict(t)[:, knee]
+    assert np.allclose(shift, [0.0, 0.0, 0.045, 0.09, 0.045, 0.0], atol=1e-9)
+    out = tmp_path / "fixed.mimic"
+    monkeypatch.setattr("mimic.improve.correction.DISTIL_EPOCHS", 3000)  # seconds, not 20
+    target.write(z, out, {"objective": "test"})
+    written = load_model(out)
+    assert type(written) is MotionModel and written.duration_s == pytest.approx(1.5)
+    grid = np.linspace(0.0, 1.5, 31)
+    assert np.abs(written.predict(grid)[:, :N] - played.predict(grid)[:, :N]).mean() < 0.02
+    assert written.metadata["correction"]["window_s"] == [0.6, 1.0]
+    with pytest.raises(MimicError, match="--window"):
+        load_target("kick_right", window_s=(0.6, 1.0))
+
+
 def test_motion_target_round_trips_through_a_motion_file(tmp_path):
     target = load_target("kick_right", joints="right_hip_pitch,right_knee_pitch")
     steps = len(load_motion("kick_right").steps)
