@@ -18,14 +18,15 @@ outputs get ``output_std_j * g_j`` and ``output_mean_j + b_j``. The network weig
 they were, and the corrected model is an ordinary ``.mimic`` file that every command plays;
 ``source.correction`` in its metadata records the correction.
 
-A correction over a **time window** (``windowed_model``, ``mimic improve --window A B``) moves
-the offsets and gains only within ``A..B`` seconds of the motion, faded in and out over
-``WINDOW_RAMP_S`` (half a cosine), so a search can work on the part of a motion where the copy
-fails and leave the rest as learned (issue 35: the T1's back get-up rolls onto its front as
-recorded, then falls back from its kneel-sit). That correction is no edit of the output
-scaling: the candidates are played as a ``WindowedModel`` (the model's own output plus the
-correction), and the one written is distilled (``distilled``): a network of the same preset
-trained on the candidate's output every ``DISTIL_STEP_S``, an ordinary model again.
+A correction over a **time window** (``windowed_model``, ``mimic improve --window A,B``)
+moves the offsets and gains only within ``A..B`` seconds of the motion, faded in and out over
+``WINDOW_RAMP_S`` (half a cosine), and warps time only from ``A`` on, so a search can work on
+the part of a motion where the copy fails and leave the rest as learned (issue 35: the T1's
+back get-up rolls onto its front as recorded, then falls back from its kneel-sit). That
+correction is no edit of the output scaling: the candidates are played as a
+``WindowedModel`` (the model's own output plus the correction), and the one written is
+distilled (``distilled``): a network of the same preset trained on the candidate's output
+every ``DISTIL_STEP_S``, an ordinary model again.
 """
 
 from __future__ import annotations
@@ -125,32 +126,43 @@ def window_weight(time_s: np.ndarray, start_s: float, end_s: float) -> np.ndarra
 
 @dataclass
 class WindowedModel(MotionModel):
-    """A one-shot model whose references get offsets and gains within a time window (the
-    played time [s]), on top of its own output; played as it is, saved once ``distilled``."""
+    """A one-shot model corrected within a time window ``window_s`` [s of the motion as
+    learned]: from the window's start on it plays ``warp_rate`` times faster, and within the
+    window its references get offsets and gains on top of its own output. Played as it is,
+    saved once ``distilled``."""
 
     window_s: tuple[float, float] = (0.0, 0.0)
+    warp_rate: float = 1.0
     window_offsets_rad: np.ndarray | None = None
     window_gains: np.ndarray | None = None
 
     @classmethod
-    def of(cls, model: MotionModel, window_s, offsets_rad, gains) -> WindowedModel:
+    def of(cls, model: MotionModel, window_s, rate, offsets_rad, gains) -> WindowedModel:
         values = {f.name: getattr(model, f.name) for f in fields(MotionModel)}
+        lo = float(window_s[0])
+        values["duration_s"] = lo + max(0.0, model.duration_s - lo) / rate
         return cls(
             **values,
-            window_s=(float(window_s[0]), float(window_s[1])),
+            window_s=(lo, float(window_s[1])),
+            warp_rate=float(rate),
             window_offsets_rad=np.asarray(offsets_rad, float),
             window_gains=np.asarray(gains, float),
         )
 
+    def motion_time_s(self, time_s) -> np.ndarray:
+        """(T,) the learned motion's time [s] at played times ``time_s`` [s]."""
+        t = np.atleast_1d(np.asarray(time_s, float))
+        lo = self.window_s[0]
+        return np.where(t < lo, t, lo + self.warp_rate * (t - lo))
+
     def predict(self, time_s) -> np.ndarray:
-        out = super().predict(time_s)
-        scalar = out.ndim == 1
-        out = np.atleast_2d(out).copy()
+        t = self.motion_time_s(time_s)
+        out = np.atleast_2d(super().predict(t)).copy()
         n = self.num_joints
-        w = window_weight(np.atleast_1d(np.asarray(time_s, float)), *self.window_s)[:, None]
+        w = window_weight(t, *self.window_s)[:, None]
         y, mean = out[:, :n], np.asarray(self.output_mean, float)[:n]
         out[:, :n] = y + w * (self.window_offsets_rad + (self.window_gains - 1.0) * (y - mean))
-        return out[0] if scalar else out
+        return out[0] if np.ndim(time_s) == 0 else out
 
 
 def windowed_model(
@@ -162,10 +174,13 @@ def windowed_model(
     *,
     provenance: dict | None = None,
 ) -> WindowedModel:
-    """``model`` played ``rate`` times faster throughout, with per-joint offsets and gains
-    (as ``corrected_model``'s) only within ``window_s`` [s of the motion as it was]."""
+    """``model`` played ``rate`` times faster from the window's start on, with per-joint
+    offsets and gains (as ``corrected_model``'s) only within ``window_s`` [s of the motion
+    as learned]; before the window it plays as learned."""
     if model.cyclic:
         raise ValueError("a windowed correction is for one-shot motions (a cyclic one: none)")
+    if not rate > 0:
+        raise ValueError(f"time warp rate must be > 0, got {rate}")
     n = model.num_joints
     offsets_rad, gains = np.asarray(offsets_rad, float), np.asarray(gains, float)
     if offsets_rad.shape != (n,) or gains.shape != (n,):
@@ -175,7 +190,6 @@ def windowed_model(
     lo, hi = (float(v) for v in window_s)
     if not 0 <= lo < hi:
         raise ValueError(f"a correction window runs from >= 0 to a later time, got {lo}-{hi}")
-    warped = corrected_model(model, rate, np.zeros(n), np.ones(n))
     record = {
         "rate": float(rate),
         "window_s": [lo, hi],
@@ -186,8 +200,8 @@ def windowed_model(
     previous = model.metadata.get(CORRECTION_KEY)
     if previous:
         record["previous"] = previous
-    warped = dataclasses.replace(warped, metadata={**model.metadata, CORRECTION_KEY: record})
-    return WindowedModel.of(warped, (lo / rate, hi / rate), offsets_rad, gains)
+    marked = dataclasses.replace(model, metadata={**model.metadata, CORRECTION_KEY: record})
+    return WindowedModel.of(marked, (lo, hi), rate, offsets_rad, gains)
 
 
 def distilled(model: MotionModel, seed: int = 0) -> MotionModel:
