@@ -37,13 +37,7 @@ from mimic.agents.params_file import (
 from mimic.agents.registry import agent_spec
 from mimic.errors import MimicError
 from mimic.files import atomic_output
-from mimic.improve.correction import (
-    WINDOW_RAMP_S,
-    WindowedModel,
-    corrected_model,
-    distilled,
-    windowed_model,
-)
+from mimic.improve.correction import WINDOW_RAMP_S, corrected_model, windowed_model
 from mimic.improve.space import Space
 from mimic.model.model_file import load_model, save_model
 from mimic.motion.files import format_motion, load_motion
@@ -287,7 +281,7 @@ class ModelTarget(Target):
     model file written carries the gains found (``model.keys.BALANCE_GAINS_KEY``), so
     ``OUT.mimic+balance`` plays with them. With ``window_s`` (a one-shot model) the offsets
     and gains act only within that window [s of the motion] (``improve.correction``'s
-    windowed correction; the model written is distilled from the best candidate).
+    windowed correction, kept exact in the model file).
     """
 
     kind, suffix = "model", ".mimic"
@@ -371,10 +365,7 @@ class ModelTarget(Target):
 
     def write(self, z, path, provenance):
 
-        model = self.model_at(z, provenance)
-        if isinstance(model, WindowedModel):
-            model = distilled(model)
-        return save_model(model, Path(path))
+        return save_model(self.model_at(z, provenance), Path(path))
 
 
 #: The other team's walk: parameter -> (scale, lower, upper), in the parameter's units.

@@ -81,12 +81,17 @@ on the observed angles with 7-sample derivatives and 4.37 m with 5-sample ones, 
 What it cannot see: in double support, torques that press the legs against each other move
 nothing and leave no trace in the angles (a keyframe motion may hold such a squeeze). Lying
 on several links the split of the load between them is not in the angles either: the
-least-squares split is a choice, and a motion that pushes one limb hard against the ground
+friction split is a choice (the smallest forces in the cones), and a motion that pushes one
+limb hard against the ground
 (a T1 get-up's arms, referenced 1 rad past where the ground stops them) gets less push than
 it had. Measured on our T1 ``getup_front`` recorded in our world at 50 Hz against its own
 references: 0.004-0.09 rad mean error per joint, largest on the shoulders while the arms
 press on the ground; replayed open loop it falls back from its kneel-sit, as does the
 original with 0.02 rad of random reference bias per joint in 2 of 4 runs (``docs/getups.md``).
+Our T1 ``getup_back`` seen at 25 Hz from the league's monitor: with the least-squares split no
+copy rolls from its back onto its front (0 of 10, torso at most 0.18 m); with the friction
+split every copy does (10 of 10), then falls back from the front get-up's kneel-sit
+(``docs/getups.md``).
 """
 
 from __future__ import annotations
