@@ -32,16 +32,17 @@ touch it (issue 35):
    A foot carries a wrench as in step 3 only when it stands flat (tilted less than
    ``flat_foot_tilt_rad``, its sole within ``sole_height_m`` of the ground); while another
    link touches, a foot on its heel or toes pushes at its lowest point like the rest.
-6. The floating-base rows are split over all the contacts by friction (``friction``, the
-   default): each point force lies in its friction cone (a nonnegative sum of the four edges
+6. The floating-base rows are split over all the contacts. With ``friction`` set (an option,
+   off by default: it rolled one recording's T1 back get-up copy and not two others',
+   docs/getups.md): each point force lies in its friction cone (a nonnegative sum of the four edges
    of a pyramid, coefficient ``friction``), except where the point slides (its velocity along
    the ground above ``slide_m_s``): there the ground pushes only along the cone's edge that
    opposes the sliding (kinetic friction); a flat foot's wrench is free. The split is the
    nonnegative least-squares fit of the six rows with a small cost on every force. So static
    friction holds the links that stay put and the sliding ones only brake: a waist that twists
    the pelvis and legs over the ground while the torso lies still gets more of the torque it
-   needed (``tests/test_pd_compensate.py``: 0.060 against 0.085 rad rms). ``friction=None``:
-   the least-squares split in which a point force costs as much as a foot's force, a link that
+   needed (``tests/test_pd_compensate.py``: 0.060 against 0.085 rad rms). ``friction=None`` (the
+   default): the least-squares split in which a point force costs as much as a foot's force, a link that
    would pull on the ground dropped and the split solved again (at most 8 times).
 7. Saturation at the joint stops: a joint within ``stop_margin_rad`` of a stop sits at it. The
    stop pushes only back into the range, so it gives every share of the torque that points
@@ -59,7 +60,7 @@ touch it (issue 35):
    sign of torque) from its first to its last saturated sample the reference is the farthest
    the push reaches from there on (its look-ahead envelope). A copy that lags a little stays
    saturated, as the original did, rather than falling back to a torque the lag lowers.
-   ``saturation_share=None``: the bound itself.
+   ``saturation_share=None`` (the default, as with ``friction``): the bound itself.
 
 The references are returned at the sample times; a world that applies a command a cycle late
 (the league server) needs them ``lead_s`` early, which ``pd_references`` leaves to its caller
@@ -150,12 +151,12 @@ class PdCompensationConfig:
     # Friction coefficient of a point contact (step 6): its force lies in the friction cone
     # (a pyramid of four edges), or, where the point slides faster than ``slide_m_s``, on the
     # cone's edge against the sliding. None: the least-squares split, no cone.
-    friction: float | None = 1.0
+    friction: float | None = None
     slide_m_s: float = 0.05
     # A motor whose needed torque is at least this share of its limit pushed saturated: over
     # each push (torque of one sign) from its first to its last saturated sample the reference
     # is the farthest the push reaches from there on (step 8). None: the saturation bound.
-    saturation_share: float | None = 0.9
+    saturation_share: float | None = None
 
 
 @dataclass(frozen=True)
