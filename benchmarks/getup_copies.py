@@ -20,6 +20,10 @@ processes of the README's league block: the motion played on a server while ``mi
    copy's time warp, per-leg-joint offsets and gains searched on get-up trial episodes, the
    T1's in our world made league-like (``--world league-like``: the league's solver and
    command delay), the NAO's in ours (``--validate 0``: the trial below is the validation).
+   The T1's back get-up, whose copy rolls onto its front as recorded and then falls back
+   from the front get-up's kneel-sit, gets a second search over that part only: ``mimic
+   improve IMPROVED.mimic --window A,END --budget 150 --seed 4`` (A: where the roll ends,
+   ``ROLL_END_S`` of the recording, in the improved copy's time).
 4. ``mimic trial getup --compare ORIGINAL REACHED COMPENSATED IMPROVED --runs R --seed S``:
    the T1 in the league's simulation (``--world league``) and in ours, the NAO in ours.
 
@@ -36,11 +40,15 @@ from shared import mimic, record_black_box
 
 from mimic.agents.registry import agent_spec
 from mimic.episode import Scene
+from mimic.model.keys import CORRECTION_KEY
+from mimic.model.model_file import load_model
 
 #: Longest a get-up plays while recorded [s] (the T1's back get-up takes 10.3 s).
 PLAY_S = 14.0
-#: The improve search's seed (development).
-IMPROVE_SEED = 3
+#: The improve search's seed (development), and the windowed search's.
+IMPROVE_SEED, WINDOW_SEED = 3, 4
+#: Where the T1's back get-up has rolled onto its front: its front get-up starts [s].
+ROLL_END_S = 4.4
 
 
 def record(robot: str, side: str, out: Path) -> tuple[Path, float]:
@@ -65,12 +73,26 @@ def learn(robot: str, side: str, rec: Path, end_s: float, out: Path, budget: int
     mimic("train", str(rec), *window, *topic, "--target", "reached", "-o", str(reached), "--force")
     mimic("train", str(rec), *window, *topic, "-o", str(compensated), "--force")
     world = "league-like" if robot == "t1" else "mujoco"
+    search = [
+        "--objective", "getup", "--robot", robot, "--world", world, "--episodes", "4",
+        "--validate", "0",
+    ]  # fmt: skip
     mimic(
-        "improve", str(compensated), "--objective", "getup", "--robot", robot, "--world", world,
-        "--budget", str(budget), "--episodes", "4", "--validate", "0", "--seed",
+        "improve", str(compensated), *search, "--budget", str(budget), "--seed",
         str(IMPROVE_SEED), "-o", str(improved), "--force",
     )  # fmt: skip
-    return [str(reached), str(compensated), str(improved)]
+    copies = [str(reached), str(compensated), str(improved)]
+    if robot == "t1" and side == "back":
+        model = load_model(improved)
+        rate = model.metadata.get(CORRECTION_KEY, {}).get("rate", 1.0)
+        window = f"{ROLL_END_S / rate:.2f},{model.duration_s:.2f}"
+        windowed = out / f"{robot}_{side}_improved_window.mimic"
+        mimic(
+            "improve", str(improved), *search, "--window", window, "--budget", "150",
+            "--seed", str(WINDOW_SEED), "-o", str(windowed), "--force",
+        )  # fmt: skip
+        copies.append(str(windowed))
+    return copies
 
 
 def trial(robot: str, side: str, copies: list[str], world: str, args, out: Path) -> None:

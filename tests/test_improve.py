@@ -82,6 +82,40 @@ def test_model_target_searches_a_time_warp_and_leg_offsets_and_gains(tmp_path):
     assert target.spec(np.zeros(25)).ball_offset_m() == (0.16, -0.07)
 
 
+def test_a_windowed_correction_acts_in_its_window_and_its_file_keeps_it_exact(tmp_path):
+    """``--window A,B``: offsets and gains only from A to B (faded in over 0.2 s), the time
+    warp from A on, the motion before A as learned; the file keeps the network and the
+    correction, and loads back to the same references (ONNX export refuses it)."""
+    from mimic.learn.export import model_to_onnx
+    from mimic.model.windowed import WindowedModel
+
+    path = save_model(_tiny_model(), tmp_path / "kick.mimic")
+    target = load_target(str(path), window_s=(0.6, 1.0))
+    z = np.zeros(target.space.dim)
+    z[target.space.names.index("offset.right_knee_pitch")] = 3.0  # 0.09 rad
+    played = target.spec(z).model
+    knee = target.model.joint_names.index("right_knee_pitch")
+    t = np.array([0.2, 0.59, 0.7, 0.8, 0.9, 1.2])
+    shift = played.predict(t)[:, knee] - target.model.predict(t)[:, knee]
+    assert np.allclose(shift, [0.0, 0.0, 0.045, 0.09, 0.045, 0.0], atol=1e-9)
+    z[0] = 5.0  # time_rate 1.25: from 0.6 s on
+    warped = target.spec(z).model
+    assert warped.duration_s == pytest.approx(0.6 + 0.9 / 1.25)
+    early = np.array([0.1, 0.3, 0.55])
+    assert np.allclose(warped.predict(early), target.model.predict(early), atol=1e-12)
+    out = tmp_path / "fixed.mimic"
+    target.write(z, out, {"objective": "test"})
+    written = load_model(out)
+    assert isinstance(written, WindowedModel)
+    grid = np.linspace(0.0, warped.duration_s, 31)
+    assert np.allclose(written.predict(grid), warped.predict(grid), atol=1e-9)
+    assert written.metadata["correction"]["window_s"] == [0.6, 1.0]
+    with pytest.raises(MimicError, match="window"):
+        model_to_onnx(written)
+    with pytest.raises(MimicError, match="--window"):
+        load_target("kick_right", window_s=(0.6, 1.0))
+
+
 def test_motion_target_round_trips_through_a_motion_file(tmp_path):
     target = load_target("kick_right", joints="right_hip_pitch,right_knee_pitch")
     steps = len(load_motion("kick_right").steps)

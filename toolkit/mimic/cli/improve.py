@@ -115,6 +115,15 @@ def _improve(
             help="Joints a motion or model may change: legs, all, or names separated by commas."
         ),
     ] = "legs",
+    window: Annotated[
+        str | None,
+        typer.Option(
+            metavar="START,END",
+            help="A learned one-shot model: its offsets and gains act only from START to END "
+            "(seconds of the motion), e.g. where the copy fails (the model written is trained again "
+            "on the corrected output).",
+        ),
+    ] = None,
     pick: Annotated[
         Pick,
         typer.Option(
@@ -213,6 +222,7 @@ def _improve(
             sigma=sigma,
             population=population,
             joints=joints,
+            window_s=_window(window),
             pick=Pick(pick).value,
             validation_episodes=n_validate,
             references=tuple(compare or ()),
@@ -310,3 +320,16 @@ def register(app: typer.Typer) -> None:
     from mimic.cli.train import bench_app
 
     bench_app.command("scaling")(reports_errors(_bench_scaling))
+
+
+def _window(text: str | None) -> tuple[float, float] | None:
+    """``--window START,END`` as two times [s]; one line for anything else."""
+    if text is None:
+        return None
+    try:
+        lo, hi = (float(v) for v in text.split(","))
+    except ValueError:
+        raise MimicError(
+            f"--window takes START,END in seconds, e.g. 4.3,10.3; got {text!r}"
+        ) from None
+    return lo, hi

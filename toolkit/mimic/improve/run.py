@@ -76,6 +76,7 @@ def improve(
     sigma: float = 1.0,
     population: int | None = None,
     joints: str = "legs",
+    window_s: tuple[float, float] | None = None,
     pick: str = "best",
     validation_episodes: int = 0,
     references: tuple[str, ...] = (),
@@ -108,7 +109,8 @@ def improve(
     ``world`` (``mujoco``, ``league``, ``league-server`` or ``league-like``; default: the
     objective's trial settings, ours) is where every episode plays, search and validation
     alike; ``robot`` (default: the NAO in ours, the T1 in the league's; a model file says its
-    own) is whose motion or engine a name means.
+    own) is whose motion or engine a name means. ``window_s`` (a learned one-shot model):
+    its offsets and gains act only within that window [s of the motion].
 
     Raises:
         MimicError: bad target, objective, budget, out suffix, checkpoint, Ray address, world,
@@ -120,7 +122,7 @@ def improve(
     if world is not None:
         obj = replace(obj, trial_config=replace(obj.trial_config, world=world_kind(world)))
     kind = obj.trial_config.world
-    tgt = load_target(target, joints=joints, robot=robot or default_robot(kind))
+    tgt = load_target(target, joints=joints, robot=robot or default_robot(kind), window_s=window_s)
     target_robot = tgt.baseline().robot
     if robot is not None and target_robot != robot:
         raise MimicError(
@@ -161,6 +163,7 @@ def improve(
                 sigma=sigma,
                 population=population,
                 joints=joints,
+                window_s=window_s,
                 pick=pick,
                 validation_episodes=validation_episodes,
                 references=references,

@@ -37,7 +37,7 @@ from mimic.agents.params_file import (
 from mimic.agents.registry import agent_spec
 from mimic.errors import MimicError
 from mimic.files import atomic_output
-from mimic.improve.correction import corrected_model
+from mimic.improve.correction import WINDOW_RAMP_S, corrected_model, windowed_model
 from mimic.improve.space import Space
 from mimic.model.model_file import load_model, save_model
 from mimic.motion.files import format_motion, load_motion
@@ -279,13 +279,34 @@ class ModelTarget(Target):
     the legs: 1 + 12 + 12 = 25 parameters on the NAO); with ``balance``, ``balance.<gain>``
     (``BALANCE_SEARCH``) from the gains the layer would use around the model as it is. The
     model file written carries the gains found (``model.keys.BALANCE_GAINS_KEY``), so
-    ``OUT.mimic+balance`` plays with them.
+    ``OUT.mimic+balance`` plays with them. With ``window_s`` (a one-shot model) the offsets
+    and gains act only within that window [s of the motion] (``improve.correction``'s
+    windowed correction, kept exact in the model file).
     """
 
     kind, suffix = "model", ".mimic"
 
-    def __init__(self, text: str, model, balance: bool = False, joints: str = "legs") -> None:
+    def __init__(
+        self,
+        text: str,
+        model,
+        balance: bool = False,
+        joints: str = "legs",
+        window_s: tuple[float, float] | None = None,
+    ) -> None:
         self.model, self.balance = model, balance
+        if window_s is not None:
+            lo, hi = (float(v) for v in window_s)
+            if model.cyclic or not 0 <= lo < hi:
+                raise MimicError(
+                    f"--window {lo:g} {hi:g}: a window of a one-shot model's time, from >= 0 "
+                    f"to a later time ({Path(text).name} is "
+                    f"{'cyclic' if model.cyclic else f'{model.duration_s:.2f} s long'})"
+                )
+            # A window to the motion's end (or past it) holds its correction to the last pose.
+            end = model.duration_s + WINDOW_RAMP_S
+            window_s = (lo, end if hi >= model.duration_s - 1e-9 else hi)
+        self.window_s = window_s
         self.joints = resolve_joints(model.robot, joints)
         names = [model.joint_names[j] for j in self.joints]
         params = [
@@ -321,7 +342,12 @@ class ModelTarget(Target):
         offsets, gains = np.zeros(n), np.ones(n)
         offsets[self.joints] = v[1 : 1 + d]
         gains[self.joints] = v[1 + d : 1 + 2 * d]
-        model = corrected_model(self.model, float(v[0]), offsets, gains, provenance=provenance)
+        if self.window_s is not None:
+            model = windowed_model(
+                self.model, float(v[0]), self.window_s, offsets, gains, provenance=provenance
+            )
+        else:
+            model = corrected_model(self.model, float(v[0]), offsets, gains, provenance=provenance)
         if not self.balance:
             return model
         own = {
@@ -432,8 +458,15 @@ def _provenance_lines(provenance: dict) -> list[str]:
     return lines
 
 
-def load_target(text: str, *, joints: str = "legs", robot: str = "nao") -> Target:
-    """The target named by ``text`` (an agent spec, see ``agents.registry``).
+def load_target(
+    text: str,
+    *,
+    joints: str = "legs",
+    robot: str = "nao",
+    window_s: tuple[float, float] | None = None,
+) -> Target:
+    """The target named by ``text`` (an agent spec, see ``agents.registry``); ``window_s``
+    (a learned one-shot model only): its correction acts within that window [s].
 
     Raises:
         MimicError: unknown name, missing or bad file, or an agent that has nothing to search
@@ -441,10 +474,12 @@ def load_target(text: str, *, joints: str = "legs", robot: str = "nao") -> Targe
     """
 
     spec = agent_spec(text, robot=robot)
+    if window_s is not None and spec.kind != "model":
+        raise MimicError(f"--window corrects a learned model (.mimic), not {text!r}")
     if spec.kind == "motion":
         return MotionTarget(text, load_motion(spec.ref, spec.robot), joints)
     if spec.kind == "model":
-        return ModelTarget(text, load_model(spec.ref), spec.balance, joints)
+        return ModelTarget(text, load_model(spec.ref), spec.balance, joints, window_s)
     engine = spec.kind == "params" or (spec.ref in PARAM_ENGINES and spec.ref in ENGINE_SEARCH)
     if engine and spec.robot != "nao":  # the parameter engines are the NAO's
         raise MimicError(

@@ -25,9 +25,11 @@ from pathlib import Path
 import numpy as np
 
 from mimic import __version__
+from mimic.errors import MimicError
 from mimic.files import atomic_output
 from mimic.model.motion_model import INPUT_PHASE, MotionModel
 from mimic.model.network import LEAKY_SLOPE
+from mimic.model.windowed import WindowedModel
 
 __all__ = ["model_to_onnx", "export_onnx", "output_doc", "OPSET", "INPUT_DOC"]
 
@@ -51,6 +53,11 @@ def output_doc(model: MotionModel) -> str:
 
 def model_to_onnx(model: MotionModel):
     """An ``onnx.ModelProto`` computing ``model.predict`` for a batch of times."""
+    if isinstance(model, WindowedModel):
+        raise MimicError(
+            f"{model.name}: a model improved over a time window (mimic improve --window) "
+            "plays its correction in mimic only; ONNX export takes a model without one"
+        )
     import onnx
     from onnx import TensorProto, helper, numpy_helper
 

@@ -32,9 +32,18 @@ touch it (issue 35):
    A foot carries a wrench as in step 3 only when it stands flat (tilted less than
    ``flat_foot_tilt_rad``, its sole within ``sole_height_m`` of the ground); while another
    link touches, a foot on its heel or toes pushes at its lowest point like the rest.
-6. The floating-base rows are split over all the contacts as the least-squares solution in
-   which a point force costs as much as a foot's force; a link the solution would have pull
-   on the ground is dropped and the split solved again (at most 8 times).
+6. The floating-base rows are split over all the contacts. With ``friction`` set (an option,
+   off by default: it rolled one recording's T1 back get-up copy and not two others',
+   docs/getups.md): each point force lies in its friction cone (a nonnegative sum of the four edges
+   of a pyramid, coefficient ``friction``), except where the point slides (its velocity along
+   the ground above ``slide_m_s``): there the ground pushes only along the cone's edge that
+   opposes the sliding (kinetic friction); a flat foot's wrench is free. The split is the
+   nonnegative least-squares fit of the six rows with a small cost on every force. So static
+   friction holds the links that stay put and the sliding ones only brake: a waist that twists
+   the pelvis and legs over the ground while the torso lies still gets more of the torque it
+   needed (``tests/test_pd_compensate.py``: 0.060 against 0.085 rad rms). ``friction=None`` (the
+   default): the least-squares split in which a point force costs as much as a foot's force, a link that
+   would pull on the ground dropped and the split solved again (at most 8 times).
 7. Saturation at the joint stops: a joint within ``stop_margin_rad`` of a stop sits at it. The
    stop pushes only back into the range, so it gives every share of the torque that points
    that way, and the motor gives only what points into the stop. So a joint that rests
@@ -43,6 +52,15 @@ touch it (issue 35):
    angle past it) gets a reference beyond the stop by the torque the motion needs there, over
    kp. The torque the motion needs is what steps 2-6 give; a motor that pushed harder into
    its stop than that leaves no trace in the angles and cannot be recovered.
+
+8. Saturation of the motors: where the torque a joint needs reaches ``saturation_share`` of
+   its motor's limit, the motor pushed at its limit and the reference lay somewhere beyond
+   ``q + (limit + kd dq) / kp``: the angles bound it, they do not give it. A keyframe commands
+   where the push should end and the joint lags behind it, so over each push (a run of one
+   sign of torque) from its first to its last saturated sample the reference is the farthest
+   the push reaches from there on (its look-ahead envelope). A copy that lags a little stays
+   saturated, as the original did, rather than falling back to a torque the lag lowers.
+   ``saturation_share=None`` (the default, as with ``friction``): the bound itself.
 
 The references are returned at the sample times; a world that applies a command a cycle late
 (the league server) needs them ``lead_s`` early, which ``pd_references`` leaves to its caller
@@ -63,12 +81,19 @@ on the observed angles with 7-sample derivatives and 4.37 m with 5-sample ones, 
 What it cannot see: in double support, torques that press the legs against each other move
 nothing and leave no trace in the angles (a keyframe motion may hold such a squeeze). Lying
 on several links the split of the load between them is not in the angles either: the
-least-squares split is a choice, and a motion that pushes one limb hard against the ground
+friction split is a choice (the smallest forces in the cones), and a motion that pushes one
+limb hard against the ground
 (a T1 get-up's arms, referenced 1 rad past where the ground stops them) gets less push than
 it had. Measured on our T1 ``getup_front`` recorded in our world at 50 Hz against its own
 references: 0.004-0.09 rad mean error per joint, largest on the shoulders while the arms
 press on the ground; replayed open loop it falls back from its kneel-sit, as does the
 original with 0.02 rad of random reference bias per joint in 2 of 4 runs (``docs/getups.md``).
+Our T1 ``getup_back`` seen at 25 Hz from the league's monitor: on one recording the
+least-squares split's copy never rolls from its back onto its front and the friction split's
+always does; on a second recording of the same play (angles within 0.0055 rad) it is the
+other way round, and on a third neither rolls by the friction split: the references over the
+roll move by up to 0.04 rad rms between recordings, and the roll hangs on that
+(``docs/getups.md``).
 """
 
 from __future__ import annotations
@@ -123,6 +148,15 @@ class PdCompensationConfig:
     sole_height_m: float = 0.05
     # A joint within this of a stop sits at the stop [rad].
     stop_margin_rad: float = 0.03
+    # Friction coefficient of a point contact (step 6): its force lies in the friction cone
+    # (a pyramid of four edges), or, where the point slides faster than ``slide_m_s``, on the
+    # cone's edge against the sliding. None: the least-squares split, no cone.
+    friction: float | None = None
+    slide_m_s: float = 0.05
+    # A motor whose needed torque is at least this share of its limit pushed saturated: over
+    # each push (torque of one sign) from its first to its last saturated sample the reference
+    # is the farthest the push reaches from there on (step 8). None: the saturation bound.
+    saturation_share: float | None = None
 
 
 @dataclass(frozen=True)
@@ -311,7 +345,11 @@ def pd_references(
             if touching[k, i]:
                 mujoco.mj_jac(m, d, jacp, None, low_point[k, i], body)
                 points.append(jacp.T.copy())  # generalised force of a force at the point
-        if points:
+        if points and config.friction is not None:
+            touching[k], force = _share_load_cone(
+                force, base, columns, points, weights, touching[k], d.qvel, config
+            )
+        elif points:
             touching[k], force = _share_load(force, base, columns, points, weights, touching[k])
         elif columns:
             jac = np.hstack(columns)
@@ -330,14 +368,43 @@ def pd_references(
     at_lower = q < lower + config.stop_margin_rad
     torques = np.where(at_upper, np.maximum(torques, 0.0), torques)
     torques = np.where(at_lower, np.minimum(torques, 0.0), torques)
+    needed = torques.copy()
     torques = np.clip(torques, -limit, limit)
     # The observed angle itself, not its smoothed value: the fit is there for the derivatives,
     # and a smoothed angle cuts a kick's strike short (see "Measured" above).
     references = q + (torques + kd * dq) / kp
+    if config.saturation_share is not None:
+        saturated = np.abs(needed) >= config.saturation_share * limit
+        references = _saturation_envelope(references, needed, saturated)
     names = tuple(m.body(b).name for b in bodies)
     return PdCompensation(
         references, torques, contacts, residual, touching, names, at_upper | at_lower
     )
+
+
+def _saturation_envelope(
+    references: np.ndarray, torques: np.ndarray, saturated: np.ndarray
+) -> np.ndarray:
+    """``references`` (T, N) with each saturated push replaced by its look-ahead envelope.
+
+    A push is a run of samples whose ``torques`` (T, N) keep one sign; where it has samples
+    ``saturated`` (T, N, bool), from its first to its last such sample each reference becomes
+    the farthest (in the push's direction) from there to that last sample."""
+    out = references.copy()
+    sign = np.sign(torques)
+    for j in range(references.shape[1]):
+        k = 0
+        while k < len(sign):
+            end = k
+            while end + 1 < len(sign) and sign[end + 1, j] == sign[k, j]:
+                end += 1
+            hits = k + np.nonzero(saturated[k : end + 1, j])[0]
+            if sign[k, j] != 0 and len(hits):
+                lo, hi = hits[0], hits[-1] + 1
+                run = sign[k, j] * references[lo:hi, j]
+                out[lo:hi, j] = sign[k, j] * np.maximum.accumulate(run[::-1])[::-1]
+            k = end + 1
+    return out
 
 
 def _contact_shapes(m, root_body: int) -> list[tuple[int, int]]:
@@ -364,6 +431,70 @@ def _lowest_point(m, d, g: int) -> np.ndarray:
     half = m.geom_aabb[g][3:]
     centre = centre + rot @ m.geom_aabb[g][:3]
     return centre - rot @ (np.sign(rot[2]) * half)
+
+
+def _share_load_cone(force, base, columns, points, weights, touching, qvel, config):
+    """As ``_share_load``, each point force in its friction cone: a nonnegative sum of the
+    cone's edges (a pyramid of four), or where the point slides, of the one edge that opposes
+    the sliding (kinetic friction); the feet's wrenches free. The split is the nonnegative
+    least-squares fit of the floating-base rows with a small cost on every force (the
+    smallest forces that hold the body). Returns (the links that push, the force left)."""
+    mu = config.friction
+    square = [
+        np.array([1.0, 0.0]),
+        np.array([0.0, 1.0]),
+        np.array([-1.0, 0.0]),
+        np.array([0.0, -1.0]),
+    ]
+    blocks, owner = [], []
+    for col in columns:  # a foot's wrench: each component either sign
+        blocks += [col, -col]
+        owner += [-1] * (2 * col.shape[1])
+    for i, jac in enumerate(points):
+        slide = (jac.T @ qvel)[:2]
+        speed = float(np.linalg.norm(slide))
+        edges = [-slide / speed] if speed > config.slide_m_s else square
+        for e in edges:
+            blocks.append((jac @ np.array([mu * e[0], mu * e[1], 1.0]))[:, None])
+            owner.append(i)
+    gen = np.hstack(blocks)  # (nv, edges): generalised force of each edge
+    cost = np.ones(gen.shape[1])
+    cost[: 2 * 6 * len(columns)] = np.tile(np.sqrt(weights), 2 * len(columns))
+    reg = 1e-3
+    a = np.vstack([gen[base], reg * np.diag(cost)])
+    b = np.r_[force[base], np.zeros(gen.shape[1])]
+    lam = _nnls(a, b)
+    owner = np.array(owner)
+    where = np.nonzero(touching)[0]
+    pushing = np.array([lam[owner == i].sum() > 1e-6 for i in range(len(points))], bool)
+    touching = touching.copy()
+    touching[:] = False
+    touching[where[pushing]] = True
+    return touching, force - gen @ lam
+
+
+def _nnls(a: np.ndarray, b: np.ndarray, max_iter: int = 500) -> np.ndarray:
+    """x >= 0 minimising |a x - b| (Lawson and Hanson's active set method)."""
+    n = a.shape[1]
+    x = np.zeros(n)
+    free = np.zeros(n, bool)
+    for _ in range(max_iter):
+        grad = a.T @ (b - a @ x)
+        if free.all() or grad[~free].max(initial=-np.inf) <= 1e-10 * (1 + np.abs(grad).max()):
+            break
+        free[np.argmax(np.where(free, -np.inf, grad))] = True
+        while True:
+            z = np.zeros(n)
+            z[free] = np.linalg.lstsq(a[:, free], b, rcond=None)[0]
+            if (z[free] > 0).all():
+                x = z
+                break
+            neg = free & (z <= 0)
+            alpha = np.min(x[neg] / (x[neg] - z[neg]))
+            x = x + alpha * (z - x)
+            free &= x > 1e-12
+            x[~free] = 0.0
+    return x
 
 
 def _share_load(force, base, columns, points, weights, touching, max_rounds: int = 8):

@@ -23,8 +23,10 @@ import numpy as np
 from mimic import __version__
 from mimic.errors import MimicError, ModelFileError
 from mimic.files import atomic_output, input_file
+from mimic.model.keys import CORRECTION_KEY
 from mimic.model.motion_model import INPUT_PHASE, INPUT_TIME, MotionModel
 from mimic.model.network import Layout
+from mimic.model.windowed import WindowedModel
 from mimic.robot.registry import DEFAULT_ROBOT, get_robot
 
 __all__ = [
@@ -217,7 +219,7 @@ def load_model(path: str | Path) -> MotionModel:
         or std.shape != (layout.out_dim,)
     ):
         raise ModelFileError(f"{path}: damaged model file (array shapes do not match its layout)")
-    return MotionModel(
+    model = MotionModel(
         layout,
         params,
         input_kind=meta["input_kind"],
@@ -233,6 +235,15 @@ def load_model(path: str | Path) -> MotionModel:
         metrics=meta.get("metrics", {}),
         metadata=meta.get("source", {}),
     )
+    correction = model.metadata.get(CORRECTION_KEY)
+    if isinstance(correction, dict) and "window_s" in correction:
+        try:
+            return WindowedModel.from_record(model, correction)
+        except (KeyError, ValueError, TypeError) as err:
+            raise ModelFileError(
+                f"{path}: broken windowed correction ({err}); improve the model again"
+            ) from None
+    return model
 
 
 def _number(value, *, positive: bool = False, optional: bool = False) -> bool:

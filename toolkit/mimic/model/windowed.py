@@ -1,0 +1,81 @@
+"""A learned one-shot model corrected within a time window (``mimic improve --window``,
+``improve.correction.windowed_model``): the network as learned, and on its output a time warp
+from the window's start on and per-joint offsets and gains inside the window. Its file keeps
+the network and the correction (``model.keys.CORRECTION_KEY``: ``window_s``, ``rate``,
+``offsets_rad``, ``gains``, ``learned_duration_s``); ``load_model`` gives this class back."""
+
+from __future__ import annotations
+
+import dataclasses
+from dataclasses import dataclass, fields
+
+import numpy as np
+
+from mimic.model.motion_model import MotionModel
+
+__all__ = ["WindowedModel", "window_weight", "WINDOW_RAMP_S"]
+
+#: How long a windowed correction takes to fade in and out at the window's edges [s].
+WINDOW_RAMP_S = 0.2
+
+
+def window_weight(time_s: np.ndarray, start_s: float, end_s: float) -> np.ndarray:
+    """(T,) 0 outside ``start_s..end_s`` [s], 1 inside, a half cosine over ``WINDOW_RAMP_S``
+    at either edge (inside the window)."""
+    t = np.asarray(time_s, float)
+    ramp = min(WINDOW_RAMP_S, 0.5 * (end_s - start_s))
+    rise = np.clip((t - start_s) / ramp, 0.0, 1.0)
+    fall = np.clip((end_s - t) / ramp, 0.0, 1.0)
+    return 0.5 - 0.5 * np.cos(np.pi * np.minimum(rise, fall))
+
+
+@dataclass
+class WindowedModel(MotionModel):
+    """A one-shot model corrected within a time window ``window_s`` [s of the motion as
+    learned]: from the window's start on it plays ``warp_rate`` times faster, and within the
+    window its references get offsets and gains on top of its own output. Played as it is,
+    saved once ``distilled``."""
+
+    window_s: tuple[float, float] = (0.0, 0.0)
+    warp_rate: float = 1.0
+    window_offsets_rad: np.ndarray | None = None
+    window_gains: np.ndarray | None = None
+
+    @classmethod
+    def of(cls, model: MotionModel, window_s, rate, offsets_rad, gains) -> WindowedModel:
+        """``model`` (as learned) with the correction."""
+        values = {f.name: getattr(model, f.name) for f in fields(MotionModel)}
+        lo = float(window_s[0])
+        values["duration_s"] = lo + max(0.0, model.duration_s - lo) / rate
+        return cls(
+            **values,
+            window_s=(lo, float(window_s[1])),
+            warp_rate=float(rate),
+            window_offsets_rad=np.asarray(offsets_rad, float),
+            window_gains=np.asarray(gains, float),
+        )
+
+    def motion_time_s(self, time_s) -> np.ndarray:
+        """(T,) the learned motion's time [s] at played times ``time_s`` [s]."""
+        t = np.atleast_1d(np.asarray(time_s, float))
+        lo = self.window_s[0]
+        return np.where(t < lo, t, lo + self.warp_rate * (t - lo))
+
+    def predict(self, time_s) -> np.ndarray:
+        t = self.motion_time_s(time_s)
+        out = np.atleast_2d(super().predict(t)).copy()
+        n = self.num_joints
+        w = window_weight(t, *self.window_s)[:, None]
+        y, mean = out[:, :n], np.asarray(self.output_mean, float)[:n]
+        out[:, :n] = y + w * (self.window_offsets_rad + (self.window_gains - 1.0) * (y - mean))
+        return out[0] if np.ndim(time_s) == 0 else out
+
+    @classmethod
+    def from_record(cls, model: MotionModel, record: dict) -> WindowedModel:
+        """The model a file holds: ``model`` as loaded (the network as learned, the played
+        duration) and the correction its metadata records (``CORRECTION_KEY``)."""
+        names = model.joint_names
+        offsets = np.array([float(record.get("offsets_rad", {}).get(j, 0.0)) for j in names])
+        gains = np.array([float(record.get("gains", {}).get(j, 1.0)) for j in names])
+        learned = dataclasses.replace(model, duration_s=float(record["learned_duration_s"]))
+        return cls.of(learned, record["window_s"], float(record["rate"]), offsets, gains)
