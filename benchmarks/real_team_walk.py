@@ -24,7 +24,8 @@ joint speeds, and what the fit did. Development used trial seeds 0, 1 and 7 (the
 measurement, before the start ramp in proportion to the step and the rate limit), episode
 seeds 0-5 and 1000-1007, and the recordings of trial seeds 47 and 53 (the fit). Each version
 of the walk and the copy was measured once on a seed of its own (11, 23, 31, 47, 53, then
-the default 59; docs/real-team-walk.md).
+the default 59; the balance layer's yaw damping, developed on episode seeds 0-7 and 100-115
+with the recordings of seeds 47, 53, 59 and 61, on 83 and again on 59; docs/real-team-walk.md).
 """
 
 from __future__ import annotations

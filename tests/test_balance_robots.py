@@ -4,6 +4,8 @@ NAO and the T1, whose pitch axes point the other way."""
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass, replace
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -16,15 +18,23 @@ from mimic.agents.balance import (
     foot_yaw_shift_rad,
     leg_joints,
 )
+from mimic.agents.base import Agent
 from mimic.agents.hold import HoldPose
+from mimic.agents.neural_player import NeuralPlayer
 from mimic.episode.run import run
 from mimic.episode.scene import Scene
 from mimic.errors import MimicError
+from mimic.model.model_file import load_model
 from mimic.robot.joints import joint_index
 from mimic.robot.registry import get_robot
+from mimic.tasks.walk import WalkTrialConfig, run_walk_episode
 from mimic.world.mujoco_world import MujocoWorld
 
 T1 = get_robot("t1")
+#: The step copy (``--period steps --symmetric``) of the T1 other team's regular walk, from
+#: its recording of seed 47 (benchmarks/real_team_walk.py): it fell spinning at 4.5 m in every
+#: league run until the support hip damped the torso's yaw (docs/real-team-walk.md).
+SPINNING_COPY = Path(__file__).with_name("t1_walk_copy_seed47.mimic")
 
 
 def test_legs_are_found_by_role_and_their_axes_say_the_signs():
@@ -128,3 +138,47 @@ def test_a_walk_that_turns_by_itself_gets_a_standing_turn_against_it():
     steps = np.diff([0.0, *biases])
     assert steps[0] == pytest.approx(-h.yaw_integral * err)
     assert biases[-1] == pytest.approx(-h.max_bias_rad)  # and no further
+
+
+def test_the_support_hip_yaw_turns_the_support_foot_with_the_torsos_yaw_rate():
+    walk = HoldPose(np.asarray(T1.stand_pose_rad), "t1")
+    walk.period_s = 0.84
+    gains = default_gains("t1")
+    assert gains.torso_yaw_rate_s > 0 and default_gains("nao").torso_yaw_rate_s == 0
+    assert default_gains("t1", one_shot=True).torso_yaw_rate_s == 0
+    world = MujocoWorld("t1")
+    world.reset()
+    obs = world.observe()
+    level = replace(obs, torso_quat_wxyz=np.array([1.0, 0, 0, 0]), gyro_rad_s=np.zeros(3))
+    turning = replace(level, gyro_rad_s=np.array([0.0, 0.0, 1.5]))  # turning left [rad/s]
+    agent = BalancedAgent(walk, heading=None)
+    agent.reset(obs)
+    shift = agent.tilt_correction_rad(turning) - agent.tilt_correction_rad(level)
+    hip_yaw = {
+        side: T1.joint_names.index(f"{name}_Hip_Yaw")
+        for side, name in ((1.0, "Left"), (-1.0, "Right"))
+    }
+    assert shift[hip_yaw[agent.support]] == pytest.approx(1.5 * gains.torso_yaw_rate_s)
+    assert shift[hip_yaw[-agent.support]] == 0
+    assert np.count_nonzero(shift) == 1
+
+
+@dataclass
+class _Copy:
+    robot: str
+    agent: Agent
+
+    def build(self) -> Agent:
+        return self.agent
+
+
+def test_a_t1_walk_copy_that_fell_spinning_walks_its_10_m():
+    """The copy of the seed-47 recording in the league, inside the layer with the T1's walk
+    gains: it walks the 10 m (it fell spinning at 4.5 m in every run without the yaw-rate
+    term; 0.535 m/s over 20 runs with it, 0.567 the original's)."""
+    model = load_model(SPINNING_COPY)
+    row = run_walk_episode(
+        _Copy("t1", BalancedAgent(NeuralPlayer(model))), 83, WalkTrialConfig(world="league")
+    )[0][0]
+    assert row["finished"] and not row["fell"], row
+    assert row["speed_m_s"] > 0.9 * 0.566, row

@@ -20,6 +20,12 @@ learned walk fell about six times as often). A correction means opposite things 
 * Torso attitude (``torso_pitch``, ``torso_roll``; 0 for the NAO): the support hip turns the
   torso back over the planted leg, as a walk engine's hip holds the torso where weak ankles
   cannot (the T1's walk copy stands through its start-up only with it).
+* Torso yaw rate (``torso_yaw_rate_s``; on in the T1's walk): the support hip yaw turns the
+  support foot with the torso's yaw rate (the gyro), so the hip damps the torso's yaw swing
+  over the planted foot. The T1's walk swings the torso by +-10-16 degrees a step; in its
+  copies the planted foot turned on the ground with it (52 degrees/s against the original's
+  30) and some copies fell spinning. With the term they walked, but only within a narrow
+  band of gains (docs/real-team-walk.md, "Damping the torso's yaw").
 * Foot placement (cyclic motions that carry their recording's foot track, gains
   ``place_*``, off by default): the support foot under the torso is compared with where the
   recording had it at the same phase, and the swing foot lands farther along that error and
@@ -101,6 +107,10 @@ class BalanceGains:
     # (the T1 other team's walk: 0.81 and 0.46).
     torso_pitch: float = 0.0
     torso_roll: float = 0.0
+    # Torso yaw rate: the support foot's yaw reference relative to the torso moves with the
+    # torso's yaw rate [rad per rad/s; 0: off], so the support hip holds the torso against
+    # turning over the planted foot.
+    torso_yaw_rate_s: float = 0.0
     # Forward lean [rad] the walk holds on its own (no correction at this lean).
     lean_rad: float = 0.0
     # Largest shift applied to any joint [rad].
@@ -143,6 +153,11 @@ _DEFAULT_GAINS: dict[str, BalanceGains] = {
         hip_share=0.12,
         torso_pitch=0.334,
         torso_roll=0.96,
+        # Swept on the copies of four recordings of the regular walk, one of its fixed-period
+        # copies and five copies of the policy-like walk (docs/real-team-walk.md, "Damping the
+        # torso's yaw"): 0.01 is the only gain tried at which every copy walked; 0.005 and
+        # 0.015 each fell with one of them. A narrow margin, not a tuned optimum.
+        torso_yaw_rate_s=0.01,
     ),
 }
 # One-shot motions (a kick) where a robot needs other gains than its walk (the T1's kick
@@ -431,6 +446,9 @@ class BalancedAgent(Agent):
         # tilts it left: both against the lean.
         shift[sup["hip_pitch"]] = -g.torso_pitch * (forward - g.lean_rad) * s_sup["hip_pitch"]
         shift[sup["hip_roll"]] = -g.torso_roll * left * s_sup["hip_roll"]
+        if g.torso_yaw_rate_s:
+            yaw = {self.support: g.torso_yaw_rate_s * float(obs.gyro_rad_s[2]), -self.support: 0.0}
+            shift += foot_yaw_shift_rad(yaw[1.0], yaw[-1.0], self.legs)
         if not self.swing_feedback:
             return np.clip(shift, -g.limit_rad, g.limit_rad)
         h = g.hip_share
