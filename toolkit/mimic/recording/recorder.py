@@ -235,29 +235,7 @@ def record(
         raise MimicError(f"--duration must be > 0 s, got {duration_s}")
     if seed < 0:
         raise MimicError(f"--seed must be >= 0, got {seed}")
-    if world is None or isinstance(world, str):
-        spec = get_world(world or MUJOCO)
-        check_world(spec.name, agent.robot)
-        with open_world(spec.name, agent.robot) as opened:
-            return _record(
-                agent,
-                out_path,
-                opened,
-                spec.recorded_as,
-                duration_s=duration_s,
-                seed=seed,
-                observe_only=observe_only,
-                warmup_s=warmup_s,
-                ball_offset_m=ball_offset_m,
-                config=config,
-                progress=progress,
-                compression=compression,
-            )
-    return _record(
-        agent,
-        out_path,
-        world,
-        recorded_as(world),
+    settings = dict(
         duration_s=duration_s,
         seed=seed,
         observe_only=observe_only,
@@ -267,6 +245,12 @@ def record(
         progress=progress,
         compression=compression,
     )
+    if world is None or isinstance(world, str):
+        spec = get_world(world or MUJOCO)
+        check_world(spec.name, agent.robot)
+        with open_world(spec.name, agent.robot) as opened:
+            return _record(agent, out_path, opened, spec.recorded_as, **settings)
+    return _record(agent, out_path, world, recorded_as(world), **settings)
 
 
 def _record(

@@ -6,7 +6,9 @@ from __future__ import annotations
 import numpy as np
 
 from mimic.league.client import Perception
-from mimic.world.base import Observation
+from mimic.league.errors import LeagueError
+from mimic.robot.actuators import JointCommand
+from mimic.world.base import CYCLE_S, Observation
 
 __all__ = ["PerceivedRobot"]
 
@@ -35,6 +37,26 @@ class PerceivedRobot:
             foot_forces_n=np.zeros(2),
             torso_pos_m=p.torso_pos_m.copy(),
             ball_pos_m=ball_pos_m,
+        )
+
+    def _hold_until_placed(self, x_m: float, y_m: float, pose: np.ndarray, who: str) -> None:
+        """Hold ``pose`` until the torso is within the config's tolerance of (``x_m``,
+        ``y_m``) [m, field frame], the placement ``who`` (the server) carries out.
+
+        Raises:
+            LeagueError: not there within the config's ``place_timeout_s``.
+        """
+        hold = JointCommand.references(pose)
+        for _ in range(max(1, round(self.config.place_timeout_s / CYCLE_S))):
+            self.step(hold)
+            if (
+                np.hypot(*(self._perception.torso_pos_m[:2] - (x_m, y_m)))
+                < self.config.place_tolerance_m
+            ):
+                return
+        raise LeagueError(
+            f"{who} did not move {self.team} #{self.player} to "
+            f"({x_m:.2f}, {y_m:.2f}) within {self.config.place_timeout_s:g} s"
         )
 
     def joint_angles_rad(self) -> np.ndarray:

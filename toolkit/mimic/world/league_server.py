@@ -232,18 +232,7 @@ class LeagueWorld(PerceivedRobot, World):
         quat = posture_quat(yaw_rad, posture)
         z = self.config.drop_clearance_m - lowest_point_m(self.robot, tuple(quat))
         self._command(lambda: monitor.place_player(self.team, self.player, (x_m, y_m, z), quat))
-        hold = JointCommand.references(pose)
-        for _ in range(max(1, round(self.config.place_timeout_s / CYCLE_S))):
-            self.step(hold)
-            if (
-                np.hypot(*(self._perception.torso_pos_m[:2] - (x_m, y_m)))
-                < self.config.place_tolerance_m
-            ):
-                return
-        raise LeagueError(
-            f"the server did not move {self.team} #{self.player} to "
-            f"({x_m:.2f}, {y_m:.2f}) within {self.config.place_timeout_s:g} s"
-        )
+        self._hold_until_placed(x_m, y_m, pose, "the server")
 
     def place_ball(self, x_m: float, y_m: float) -> None:
         monitor = self._need_monitor("placing the ball")
