@@ -1,6 +1,8 @@
 """Where episodes run: budgets never overshot, one pool for every variant, workers capped at
 the cores, and the same results in one process, a process pool and Ray."""
 
+import dataclasses
+
 import numpy as np
 import pytest
 
@@ -45,6 +47,41 @@ def _seed(seed, i):
     from mimic.trials.parallel import derive_seed
 
     return derive_seed(seed, i)
+
+
+@dataclasses.dataclass(frozen=True)
+class _Limited:
+    """A config with an episode time limit, as a kick trial's."""
+
+    episode_limit_s: float = 60.0
+    trace: bool = False
+
+
+def limited_episode(spec, seed, config, given=[]):  # noqa: B006 (records every call)
+    """``fake_episode`` cut at the config's limit; ``given`` collects the limits it got."""
+    rows, summary = fake_episode(spec, seed, config)
+    given.append((config.episode_limit_s, summary["duration_s"]))
+    summary["duration_s"] = min(summary["duration_s"], config.episode_limit_s)
+    return rows, summary
+
+
+def test_an_episode_that_cannot_count_stops_where_the_budget_ends():
+    given = limited_episode.__defaults__[0]
+    given.clear()
+    batch = run_episodes(
+        limited_episode, None, _Limited(), budget_s=190.0, seed=3, executor=InlineExecutor()
+    )
+    # The same episodes count as without a cap (every fake episode is shorter than 60 s).
+    assert batch.rows == _run(InlineExecutor(), budget_s=190.0).rows
+    # The first runs to its own limit; each later one gets what the budget had left when it
+    # started plus one cycle, so the one that would end past the budget stops there.
+    durations = [d for _, d in given]
+    assert given[0][0] == 60.0
+    for i, (limit, _) in enumerate(given[1:], start=1):
+        assert limit == pytest.approx(min(60.0, 190.0 - sum(durations[:i]) + 0.02))
+    dropped_limit, dropped_natural_s = given[-1]
+    assert len(given) == len(batch.episodes) + 1
+    assert dropped_limit < dropped_natural_s
 
 
 def test_the_first_episode_counts_even_past_a_tiny_budget():

@@ -41,6 +41,24 @@ def run_job(job: tuple) -> tuple[list[dict], dict]:
     return rows, summary
 
 
+def _capped(config, budget_s: float | None, counted_s: float):
+    """``config`` with its ``episode_limit_s`` cut to just past what the budget has left once
+    ``counted_s`` is spent: an episode that runs that long would end past the budget and not
+    count, so it stops there instead of playing on (each limit bounds its episode's time
+    only; an episode that ends within the budget plays exactly as without the cap). Configs
+    without the field, and trials counted in episodes, are returned as they are."""
+    limit_s = getattr(config, "episode_limit_s", None)
+    if budget_s is None or limit_s is None:
+        return config
+    # One cycle past what is left: a capped episode's duration is then over the budget.
+    cap_s = max(0.0, budget_s - counted_s) + _CAP_MARGIN_S
+    return dataclasses.replace(config, episode_limit_s=cap_s) if cap_s < limit_s else config
+
+
+#: How far past the budget's remainder a capped episode runs [s] (one 20 ms cycle).
+_CAP_MARGIN_S = 0.02
+
+
 def run_episodes(
     func: Callable,
     spec,
@@ -71,7 +89,10 @@ def run_episodes(
     the previous variant's; with neither, as many as the budget needs at least, from
     ``config.episode_limit_s``, else one): a short trial does not pay for episodes it will
     throw away. With several workers one more episode waits queued, so a worker that finishes
-    first starts the next at once. Which episodes count does not depend on any of this.
+    first starts the next at once. An episode after the first is given, as its config's
+    ``episode_limit_s``, at most what the budget had left when it started (plus a cycle):
+    past that it could not count, so it stops instead of playing on. Which episodes count
+    does not depend on any of this.
     """
     if (budget_s is None) == (episodes is None):
         raise ValueError("give exactly one of budget_s and episodes")
@@ -97,6 +118,8 @@ def run_episodes(
         i = 0
         while episodes is None or i < episodes:
             traced = dataclasses.replace(config, trace=True) if i < trace_episodes else config
+            if i > 0:
+                traced = _capped(traced, budget_s, batch.simulated_s)
             index = first_episode + i
             yield (func, spec, derive_seed(seed, index), traced, index)
             i += 1
