@@ -165,7 +165,7 @@ class LeagueInProcessWorld(PerceivedRobot, World):
         self._ball_body = int(m.jnt_bodyid[ball.id])
         self._parser = SoccerCommandParser()
         self._motors_set = False
-        self._last_reference, self._last_targets = np.full(self.robot.num_joints, np.nan), None
+        self._last_reference, self._last_targets = b"", None  # the last reference's bytes
         self._pending: np.ndarray | None = None  # targets [rad] of the next cycle
         self._pending_commands: list = []  # monitor commands carried out with them
         self._queued: list = []  # monitor commands asked for since the last step
@@ -284,8 +284,9 @@ class LeagueInProcessWorld(PerceivedRobot, World):
         reference = self.robot.check_vector(
             motors.targets(command, self.robot.name.upper()), "command"
         )
-        if not np.array_equal(reference, self._last_reference):  # a pose held: as before
-            self._last_reference, self._last_targets = reference.copy(), wire_targets_rad(reference)
+        held = reference.tobytes()
+        if held != self._last_reference:  # a pose held: the same wire targets as before
+            self._last_reference, self._last_targets = held, wire_targets_rad(reference)
         targets = self._last_targets
         self._advance()
         self._pending, self._pending_commands, self._queued = targets, self._queued, []
