@@ -9,9 +9,12 @@ replaces.
 
 from __future__ import annotations
 
+import sys
+from collections import deque
+
 import numpy as np
 
-__all__ = ["clamp", "acos_domain", "clip_symmetric", "mean_rows"]
+__all__ = ["clamp", "acos_domain", "clip_symmetric", "ordered_sum", "mean_rows", "RecentMeans"]
 
 
 def clamp(x: float, lo: float, hi: float) -> float:
@@ -36,15 +39,56 @@ def clip_symmetric(values, limit: float) -> np.ndarray:
     return np.minimum(np.maximum(values, -limit), limit)
 
 
+if sys.version_info < (3, 12):
+
+    def ordered_sum(values) -> float:
+        """The floats ``values`` added in order to a zero, one rounding per addition (as
+        numpy adds a column). Before Python 3.12 ``sum()`` does exactly that, in C."""
+        return sum(values, 0.0)
+
+else:
+
+    def ordered_sum(values) -> float:
+        """The floats ``values`` added in order to a zero, one rounding per addition (as
+        numpy adds a column). Not ``sum()``: from Python 3.12 on it compensates the
+        rounding."""
+        total = 0.0
+        for value in values:
+            total += value
+        return total
+
+
 def mean_rows(rows: list[tuple[float, ...]]) -> tuple[float, ...]:
     """Column means of ``rows`` (at least one), bit for bit what ``np.mean(rows, axis=0)``
-    gives: numpy adds each column in order to a zero, then divides by the count. (Not
-    ``sum()``: from Python 3.12 on it compensates the rounding, numpy does not.)"""
+    gives: numpy adds each column in order to a zero, then divides by the count."""
     n = len(rows)
     means = []
     for column in zip(*rows):
-        total = 0.0
-        for value in column:
-            total += value
-        means.append(total / n)
+        means.append(ordered_sum(column) / n)
     return tuple(means)
+
+
+class RecentMeans:
+    """Column means of the last ``window`` rows added: ``mean_rows`` of those rows, bit for
+    bit, with the rows kept column by column (a row comes every cycle, the means are read
+    as often)."""
+
+    def __init__(self, width: int, window: int) -> None:
+        self._columns = tuple(deque(maxlen=window) for _ in range(width))
+
+    def __len__(self) -> int:
+        return len(self._columns[0])
+
+    def add(self, *row: float) -> None:
+        """Add a row of ``width`` floats; the oldest drops out of a full window."""
+        for column, value in zip(self._columns, row):
+            column.append(value)
+
+    def means(self) -> tuple[float, ...]:
+        """The column means (at least one row added)."""
+        n = len(self._columns[0])
+        return tuple([ordered_sum(column) / n for column in self._columns])
+
+    def clear(self) -> None:
+        for column in self._columns:
+            column.clear()

@@ -33,9 +33,17 @@ import math
 import numpy as np
 
 from mimic.agents.base import Agent, JointCommand
-from mimic.agents.walk.gait import StepPlan, WalkConfig, foot_rows_at, nominal_foot, plan_step
-from mimic.floats import clamp, clip_symmetric, mean_rows
+from mimic.agents.walk.gait import (
+    StepPlan,
+    WalkConfig,
+    foot_fractions,
+    foot_rows,
+    nominal_foot,
+    plan_step,
+)
+from mimic.floats import RecentMeans, clamp
 from mimic.geometry import torso_pitch_roll as _pitch_roll_left
+from mimic.geometry import yaw_from_quat
 from mimic.robot.joints import joint_index
 from mimic.robot.leg_ik import leg_fk, leg_ik_floats, leg_joint_indices
 from mimic.robot.nao import nao
@@ -50,13 +58,13 @@ _SIDES = ("left", "right")
 _SHOULDERS = (joint_index("left_shoulder_pitch"), joint_index("right_shoulder_pitch"))
 
 
-def torso_pitch_roll(q_wxyz: np.ndarray) -> tuple[float, float]:
+def torso_pitch_roll(q_wxyz: np.ndarray, yaw_rad: float | None = None) -> tuple[float, float]:
     """Torso pitch (positive = leaning forward) and roll (positive = leaning *right*) [rad].
 
     The engine's gains were written for a right-positive roll: this is ``geometry``'s
-    left-positive roll negated, nothing more.
+    left-positive roll negated, nothing more (``yaw_rad``: as there).
     """
-    pitch, roll_left = _pitch_roll_left(q_wxyz)
+    pitch, roll_left = _pitch_roll_left(q_wxyz, yaw_rad)
     return pitch, -roll_left
 
 
@@ -83,7 +91,21 @@ class WalkEngine(Agent):
         self._servos = nao().actuator
         self.period_s = 2 * config.step_time_s
         self._stand = nao().stand_pose()
-        self._velocity = np.zeros(3)
+        self._stand_list = self._stand.tolist()
+        # Phases repeat: a step lasts whole cycles, so the feet's fractions of the way
+        # (``foot_fractions``) are worked out once for each cycle of a step.
+        self._fractions = [
+            foot_fractions(config, i / config.step_cycles) for i in range(config.step_cycles + 1)
+        ]
+        # The step command's bounds (hoisted: constant over the engine's life).
+        self._step_high = np.array(
+            [config.max_step_x_m, config.max_step_y_m, config.max_step_yaw_rad]
+        )
+        self._step_change = np.array(
+            [config.max_step_change_x_m, config.max_step_change_y_m, config.max_step_change_yaw_rad]
+        )
+        self._odometry_high = np.array([config.max_odometry_x_m, config.max_odometry_y_m])
+        self._velocity = (0.0, 0.0, 0.0)
         self._stop_requested = False
         self._state = "standing"
         self.steps_taken = 0
@@ -96,7 +118,7 @@ class WalkEngine(Agent):
 
         An all-zero velocity keeps stepping in place; ``stop()`` ends the walk.
         """
-        velocity = np.array([vx_m_s, vy_m_s, yaw_rate_rad_s], dtype=float)
+        velocity = (float(vx_m_s), float(vy_m_s), float(yaw_rate_rad_s))
         if velocity[2] != self._velocity[2] or velocity[1] != self._velocity[1]:
             self._line = None  # a new path: hold the line from where the robot is
         self._velocity = velocity
@@ -106,7 +128,7 @@ class WalkEngine(Agent):
 
     def stop(self) -> None:
         """Finish walking: ramp the steps down, then settle into the stand pose."""
-        self._velocity = np.zeros(3)
+        self._velocity = (0.0, 0.0, 0.0)
         self._stop_requested = True
         if self._state == "starting":
             self._begin("halting")
@@ -131,13 +153,13 @@ class WalkEngine(Agent):
     @property
     def velocity_command(self) -> np.ndarray:
         """(3,) the commanded velocity [m/s, m/s, rad/s]."""
-        return self._velocity.copy()
+        return np.array(self._velocity)
 
     # --- agent ----------------------------------------------------------------------------
     def reset(self, obs: Observation) -> None:
         """Re-initialise from the current pose (e.g. after a get-up): blend into the walk."""
         self._init_state(obs.joint_angles_rad)
-        if self._stop_requested and not np.any(self._velocity):
+        if self._stop_requested and not any(self._velocity):
             self._begin("halting")
         else:
             self._begin("starting")
@@ -147,18 +169,22 @@ class WalkEngine(Agent):
         feet = np.array([nominal_foot(cfg, 0), nominal_foot(cfg, 1)])
         self._plan = StepPlan(0, feet, feet.copy(), np.zeros(3))
         self._cycle_in_step = 0
-        self._step_cmd = np.zeros(3)
+        self._set_step_cmd(np.zeros(3))
         self._step_base = np.zeros(3)
         self._pitch_state = (0.0, 0.0)
         self._tilt = (0.0, 0.0)  # this cycle's torso (pitch, roll), set by act
         self._peak_tilt = 0.0
         self._blend_from = np.asarray(pose, dtype=float).copy()
         self._blend_t = 0.0
+        # Last cycle's nominal and reference poses and their difference, lists of floats.
         self._prev_nominal = None
         self._prev_ref = None
+        self._prev_offset = None
+        self._start_pose = None  # (plan, lean, pose): see _start_target
         self._heading_rad = None
         self._line = None
-        self._yaw_history: list[tuple[float, float]] = []
+        # cos and sin of the torso yaw over the last gait period (two steps).
+        self._yaw_means = RecentMeans(2, 2 * cfg.step_cycles)
         # Odometry: torso positions of the last gait period (walking only), the step
         # commands that should have produced them, and the correction learnt from both.
         self._pos_history: list[tuple[float, float]] = []
@@ -174,49 +200,69 @@ class WalkEngine(Agent):
         if state == "starting":
             self.done = False
             if self._prev_ref is not None:
-                self._blend_from = self._prev_ref.copy()  # restart from where the joints are
+                self._blend_from = np.array(self._prev_ref)  # restart from where the joints are
         if state == "halting":
             self._halt_from_walk = self._state_before == "walking"
             if self._halt_from_walk:
-                self._halt_hold = self._walk_pose(self._plan.end.tolist(), self._lean())
+                self._halt_hold = np.array(self._walk_pose(self._plan.end.tolist(), self._lean_rad))
+            elif self._prev_ref is not None:
+                self._halt_hold = np.array(self._prev_ref)
             else:
-                self._halt_hold = (
-                    self._prev_ref if self._prev_ref is not None else self._blend_from
-                ).copy()
+                self._halt_hold = self._blend_from.copy()
 
-    def act(self, obs: Observation) -> JointCommand:
+    def act(self, obs: Observation, yaw_rad: float | None = None) -> JointCommand:
+        """``yaw_rad``: ``obs.torso_yaw_rad`` if the caller has read it already."""
         cfg = self.config
-        self._update_heading(obs)
+        quat = obs.torso_quat_wxyz.tolist()
+        yaw = yaw_from_quat(quat) if yaw_rad is None else yaw_rad
+        self._update_heading(obs, yaw)
         # This cycle's torso tilt, read once (the feedback uses it too).
-        pitch, roll = self._tilt = torso_pitch_roll(obs.torso_quat_wxyz)
-        lean = self._lean()
+        pitch, roll = self._tilt = torso_pitch_roll(quat, yaw)
+        lean = self._lean_rad
         self._pitch_state = (pitch - lean, float(obs.gyro_rad_s[1]))
         self._peak_tilt = max(self._peak_tilt, abs(pitch - lean), abs(roll))
         # References are planned for the end of this cycle: the proportional term closes the
         # gap to them, the feed-forward term adds the plan's own speed over the cycle.
         nominal, ref = self._reference(obs)
         aim = ref if self._prev_ref is None or not cfg.track_previous else self._prev_ref
-        speeds = self._servos.track(aim, obs.joint_angles_rad, cfg.tracking_gain_per_s)
-        if self._prev_nominal is not None:
-            planned = nominal - self._prev_nominal
-            feedback = (ref - nominal) - (self._prev_ref - self._prev_nominal)
-            ahead = (cfg.feedforward * planned + cfg.feedback_feedforward * feedback) / CYCLE_S
-            speeds = clip_symmetric(speeds + ahead, self._servos.max_speed_rad_s)
+        angles = obs.joint_angles_rad.tolist()
+        gain, top = cfg.tracking_gain_per_s, self._servos.max_speed_rad_s
+        offset = [r - n for r, n in zip(ref, nominal)]  # the IMU feedback's part
+        speeds = []
+        # Joint by joint on plain floats: the numbers of the servos' ``track`` (the gap to the
+        # aim times the gain, capped: ``clip_symmetric``) plus the feed-forward, capped again.
+        if self._prev_nominal is None:
+            for a, q in zip(aim, angles):
+                speed = gain * (a - q)
+                speed = -top if -top > speed else speed
+                speeds.append(top if top < speed else speed)
+        else:
+            ff, fb_ff = cfg.feedforward, cfg.feedback_feedforward
+            for a, q, n, n0, o, o0 in zip(
+                aim, angles, nominal, self._prev_nominal, offset, self._prev_offset
+            ):
+                speed = gain * (a - q)
+                speed = -top if -top > speed else speed
+                speed = top if top < speed else speed
+                # The planned (feedback-free) reference's speed, the feedback's change.
+                speed = speed + (ff * (n - n0) + fb_ff * (o - o0)) / CYCLE_S
+                speed = -top if -top > speed else speed
+                speeds.append(top if top < speed else speed)
         self._prev_nominal = nominal
         self._prev_ref = ref
-        self.reference_rad = ref
-        return JointCommand.speeds(speeds)
+        self._prev_offset = offset
+        self.reference_rad = np.array(ref)
+        return JointCommand.speeds(np.array(speeds))
 
     # --- heading and line -----------------------------------------------------------------
-    def _update_heading(self, obs: Observation) -> None:
+    def _update_heading(self, obs: Observation, yaw: float) -> None:
+        """``yaw``: the torso's (``obs.torso_yaw_rad``) [rad]."""
         cfg = self.config
-        yaw = obs.torso_yaw_rad
         self._yaw_rad = yaw
         # The torso yaws back and forth with every step: the heading hold steers on the
         # heading averaged over the last gait period (two steps).
-        self._yaw_history.append((math.cos(yaw), math.sin(yaw)))
-        del self._yaw_history[: -2 * cfg.step_cycles]
-        c, s = mean_rows(self._yaw_history)
+        self._yaw_means.add(math.cos(yaw), math.sin(yaw))
+        c, s = self._yaw_means.means()
         self._mean_yaw_rad = math.atan2(s, c) if cfg.smooth_heading else yaw
         if self._state != "walking":
             self._heading_rad = yaw
@@ -227,7 +273,7 @@ class WalkEngine(Agent):
         pos = obs.torso_pos_m.tolist()
         self._pos_history.append((pos[0], pos[1]))
         del self._pos_history[: -(2 * cfg.step_cycles + 1)]
-        vx, vy, yaw_rate = self._velocity.tolist()
+        vx, vy, yaw_rate = self._velocity
         # Anti-windup: when the turn lags the command, the desired heading waits for it. Only
         # the command's own advance waits: a heading knocked away (a slipping foot, a rocking
         # step) is not given up, else every such knock would stay in the walked direction.
@@ -265,10 +311,10 @@ class WalkEngine(Agent):
             self._line_step = np.zeros(2)
 
     # --- internals ------------------------------------------------------------------------
-    def _walk_pose(self, feet: list[list[float]], lean_rad: float) -> np.ndarray:
-        """(N,) joint angles putting the feet (left, right: x, y, z, yaw) of the walk frame
+    def _walk_pose(self, feet: list[list[float]], lean_rad: float) -> list[float]:
+        """The N joint angles putting the feet (left, right: x, y, z, yaw) of the walk frame
         under a leaning torso."""
-        q = self._stand.copy()
+        q = self._stand_list.copy()  # joint by joint: plain floats
         c, s = math.cos(lean_rad), math.sin(lean_rad)
         for side in (0, 1):
             x, y, z, yaw = feet[side]
@@ -277,7 +323,9 @@ class WalkEngine(Agent):
             cz, sz = math.cos(yaw), math.sin(yaw)
             ankle = (c * x - s * z, y, s * x + c * z)
             rot = ((c * cz, c * -sz, -s), (sz, cz, 0.0), (s * cz, s * -sz, c))
-            q[_LEGS[side]] = leg_ik_floats(_SIDES[side], ankle, rot, passes=2)
+            angles = leg_ik_floats(_SIDES[side], ankle, rot, passes=2)
+            for joint, angle in zip(_LEG_JOINTS[side], angles):
+                q[joint] = angle
         swing = self.config.arm_swing_rad_per_m
         if swing:
             # The arm goes with the opposite leg, cancelling part of its yaw moment.
@@ -285,25 +333,28 @@ class WalkEngine(Agent):
             q[_SHOULDERS[1]] += swing * (feet[0][0] - self.config.ankle_x_m)
         return q
 
-    def _lean(self) -> float:
+    def _set_step_cmd(self, cmd: np.ndarray) -> None:
+        """This step's command (dx, dy, dyaw), and the torso lean it asks for [rad] (worked
+        out once per step: the walk reads it several times a cycle)."""
         cfg = self.config
-        return cfg.torso_pitch_rad + cfg.torso_pitch_per_speed * self._step_cmd[0] / cfg.step_time_s
+        self._step_cmd = cmd
+        self._lean_rad = (
+            cfg.torso_pitch_rad + cfg.torso_pitch_per_speed * float(cmd[0]) / cfg.step_time_s
+        )
 
     def _next_command(self) -> np.ndarray:
         """This step's command (dx, dy, dyaw): the velocity command ramped and clipped, its
         forward part corrected by the torso pitch at the step start (capture the fall)."""
         cfg = self.config
-        want = self._velocity * cfg.step_time_s
+        want = np.array(self._velocity) * cfg.step_time_s
         want[0] *= cfg.stride_scale
         if not self._stop_requested:
             yaw = self._mean_yaw_rad
             want[2] += cfg.heading_gain * _wrap(self._aim_rad - yaw)
-        high = np.array([cfg.max_step_x_m, cfg.max_step_y_m, cfg.max_step_yaw_rad])
-        want = np.clip(want, -high, high)
-        lim = np.array(
-            [cfg.max_step_change_x_m, cfg.max_step_change_y_m, cfg.max_step_change_yaw_rad]
-        )
-        self._step_base = self._step_base + np.clip(want - self._step_base, -lim, lim)
+        high, lim = self._step_high, self._step_change
+        # ``ndarray.clip``: what np.clip calls, without its dispatch.
+        want = want.clip(-high, high)
+        self._step_base = self._step_base + (want - self._step_base).clip(-lim, lim)
         if cfg.caution_tilt_rad and self._peak_tilt > cfg.caution_tilt_rad:
             # The last step rocked the torso hard: shorter, straight steps until it calms.
             self._step_base[0] *= cfg.caution_step_scale
@@ -316,7 +367,7 @@ class WalkEngine(Agent):
         if not self._stop_requested:
             cmd[:2] += self._line_step
         cmd[0] += cfg.step_per_pitch_m * pitch_err + cfg.step_per_pitch_rate_m_s * pitch_rate
-        return np.clip(cmd, -high, high)
+        return cmd.clip(-high, high)
 
     def _odometry_correction(self, calm: bool) -> np.ndarray:
         """(2,) forward and sideways step correction [m]: the integrated gap between the
@@ -342,9 +393,9 @@ class WalkEngine(Agent):
             walked = np.array([c * (x1 - x0) + s * (y1 - y0), -s * (x1 - x0) + c * (y1 - y0)])
             wanted = self._base_history[-2] + self._base_history[-1]
             wanted[0] /= cfg.stride_scale
-            lim = np.array([cfg.max_odometry_x_m, cfg.max_odometry_y_m])
-            self._odometry = np.clip(
-                self._odometry + cfg.odometry_gain * (wanted - walked) / 2, -lim, lim
+            lim = self._odometry_high
+            self._odometry = (self._odometry + cfg.odometry_gain * (wanted - walked) / 2).clip(
+                -lim, lim
             )
         return self._odometry * self._odometry_weight()
 
@@ -353,20 +404,19 @@ class WalkEngine(Agent):
         fade = self.config.odometry_fade_step_m
         return float(clamp(1.0 - abs(self._step_base[0]) / fade, 0.0, 1.0)) if fade else 1.0
 
-    def _reference(self, obs: Observation) -> tuple[np.ndarray, np.ndarray]:
-        """(nominal, reference) joint angles for the end of this cycle, (N,) each [rad]."""
+    def _reference(self, obs: Observation) -> tuple[list[float], list[float]]:
+        """(nominal, reference) joint angles for the end of this cycle, N floats each [rad]."""
         cfg = self.config
         if self._state == "standing":
             self.done = True
-            return self._stand.copy(), self._stand.copy()
+            return self._stand_list.copy(), self._stand_list.copy()
         if self._state == "halting":
             return self._halt_reference(obs)
         if self._state == "starting":
             self._blend_t += CYCLE_S
             a = min(1.0, self._blend_t / cfg.blend_s)
             a = 0.5 * (1 - math.cos(math.pi * a))
-            target = self._walk_pose(self._plan.start.tolist(), self._lean())
-            ref = (1 - a) * self._blend_from + a * target
+            ref = ((1 - a) * self._blend_from + a * self._start_target()).tolist()
             if self._blend_t >= cfg.blend_s - 1e-9:
                 self._begin("walking")
                 self._heading_rad = self._yaw_rad
@@ -381,17 +431,26 @@ class WalkEngine(Agent):
                 return self._halt_reference(obs)
             self._start_step()
             self._cycle_in_step = 1
-        phase = self._cycle_in_step / cfg.step_cycles
-        feet = foot_rows_at(cfg, self._plan, phase)
+        feet = foot_rows(self._plan, self._fractions[self._cycle_in_step])
         if cfg.yaw_hold_gain:
             err = float(clamp(_wrap(self._yaw_rad - self._aim_rad), -0.3, 0.3))
             feet[self._plan.support][3] += cfg.yaw_hold_gain * err
-        nominal = self._walk_pose(feet, self._lean())
+        nominal = self._walk_pose(feet, self._lean_rad)
         if self._prev_nominal is not None and cfg.max_reference_speed_rad_s:
             nominal = self._rate_limited(nominal)
         return nominal, self._feedback(nominal, obs)
 
-    def _halt_reference(self, obs: Observation) -> tuple[np.ndarray, np.ndarray]:
+    def _start_target(self) -> np.ndarray:
+        """The walk posture the start blends into: the feet where the first step starts,
+        under the leaning torso (worked out once: neither changes while starting)."""
+        plan, lean = self._plan, self._lean_rad
+        cached = self._start_pose
+        if cached is None or cached[0] is not plan or cached[1] != lean:
+            pose = np.array(self._walk_pose(plan.start.tolist(), lean))
+            cached = self._start_pose = (plan, lean, pose)
+        return cached[2]
+
+    def _halt_reference(self, obs: Observation) -> tuple[list[float], list[float]]:
         """Halting: after the last step, hold the walk stance with both feet down for
         ``halt_settle_s`` (balance feedback on, so the last steps' rocking dies out), then
         blend into the stand pose while the feedback fades out."""
@@ -402,17 +461,24 @@ class WalkEngine(Agent):
         a = min(1.0, max(0.0, self._blend_t - settle) / cfg.blend_s)
         a = 0.5 * (1 - math.cos(math.pi * a))
         nominal = (1 - a) * hold + a * self._stand
-        ref = nominal + (1 - a) * (self._feedback(nominal, obs, both_support=True) - nominal)
+        fed = np.array(self._feedback(nominal.tolist(), obs, both_support=True))
+        ref = nominal + (1 - a) * (fed - nominal)
         if self._blend_t >= settle + cfg.blend_s - 1e-9:
             self._begin("standing")
-        return nominal, ref
+        return nominal.tolist(), ref.tolist()
 
-    def _rate_limited(self, nominal: np.ndarray) -> np.ndarray:
+    def _rate_limited(self, nominal: list[float]) -> list[float]:
         """The planned pose moved from last cycle's by at most the reference speed cap per
         joint: the servos cannot follow faster, and a reachable plan keeps the feed-forward
         honest (the swing leg then lifts and swings as fast as its joints can go)."""
         step = self.config.max_reference_speed_rad_s * CYCLE_S
-        return self._prev_nominal + clip_symmetric(nominal - self._prev_nominal, step)
+        limited = []
+        for q, q0 in zip(nominal, self._prev_nominal):
+            # ``clip_symmetric``'s numbers, joint by joint.
+            move = q - q0
+            move = -step if -step > move else move
+            limited.append(q0 + (step if step < move else move))
+        return limited
 
     def _at_rest(self) -> bool:
         """The ramped command is zero and the last step ended near the nominal stance."""
@@ -429,22 +495,22 @@ class WalkEngine(Agent):
         else:
             support = 1 - self._plan.support
             self.steps_taken += 1
-        self._step_cmd = self._next_command()
+        self._set_step_cmd(self._next_command())
         self._base_history.append(self._step_base[:2].copy())
         del self._base_history[:-2]
         self._plan = plan_step(self.config, support, end, self._step_cmd)
 
     def _feedback(
-        self, nominal: np.ndarray, obs: Observation, both_support: bool = False
-    ) -> np.ndarray:
-        """``nominal`` plus IMU feedback (a new array): torso tilt (this cycle's, read by
+        self, nominal: list[float], obs: Observation, both_support: bool = False
+    ) -> list[float]:
+        """``nominal`` plus IMU feedback (a new list): torso tilt (this cycle's, read by
         ``act``) onto both hips and, as foot placement, onto the swing hip; torso tilt onto
         the support ankle, gyro rates onto both ankles."""
         cfg = self.config
-        ref = nominal.tolist()  # joint by joint: plain floats
+        ref = nominal.copy()
         gx, gy, _ = obs.gyro_rad_s.tolist()
         pitch, roll = self._tilt
-        pitch -= self._lean()
+        pitch -= self._lean_rad
         for side in (0, 1):
             legs = _LEG_JOINTS[side]
             ref[legs[4]] += cfg.gyro_pitch_gain * gy
@@ -457,4 +523,4 @@ class WalkEngine(Agent):
             else:
                 ref[legs[4]] += cfg.ankle_pitch_gain * pitch
                 ref[legs[5]] += cfg.ankle_roll_gain * roll
-        return np.array(ref)
+        return ref

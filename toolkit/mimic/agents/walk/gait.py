@@ -29,7 +29,16 @@ from mimic.agents.walk.lipm import lateral_fraction, pendulum_rate_per_s, sagitt
 from mimic.floats import clamp
 from mimic.world.base import CYCLE_S
 
-__all__ = ["WalkConfig", "StepPlan", "nominal_foot", "plan_step", "feet_at", "foot_rows_at"]
+__all__ = [
+    "WalkConfig",
+    "StepPlan",
+    "nominal_foot",
+    "plan_step",
+    "feet_at",
+    "foot_rows_at",
+    "foot_fractions",
+    "foot_rows",
+]
 
 
 @dataclass(frozen=True)
@@ -180,6 +189,14 @@ class StepPlan:
     end: np.ndarray  # (2, 4)
     command: np.ndarray  # (3,) dx, dy, dyaw per step
 
+    @cached_property
+    def rows(self) -> tuple[list[list[float]], list[list[float]]]:
+        """``start`` and ``end - start`` as plain floats, two lists (left, right) of four
+        each: worked out once per step for ``foot_rows_at``, every cycle (a plan is not
+        changed once made)."""
+        start, end = self.start.tolist(), self.end.tolist()
+        return start, [[b - a for a, b in zip(s, e)] for s, e in zip(start, end)]
+
 
 def nominal_foot(cfg: WalkConfig, side: int) -> np.ndarray:
     """(4,) nominal pose of foot ``side`` (0 left, 1 right) in the walk frame."""
@@ -209,6 +226,15 @@ def foot_rows_at(
 ) -> list[list[float]]:
     """``feet_at`` as two lists (left, right) of four floats: the walk engine's form, every
     cycle, so worked out on plain floats."""
+    return foot_rows(plan, foot_fractions(cfg, phase, sway_scale))
+
+
+def foot_fractions(
+    cfg: WalkConfig, phase: float, sway_scale: float = 1.0
+) -> tuple[float, float, float, float]:
+    """What of a step depends on its phase only: the support and the swing foot's shares of
+    the way from start to end, the swing foot's lift [m] and the torso's sway toward the
+    support foot [m]. The walk engine works them out once for each cycle of a step."""
     k = pendulum_rate_per_s(cfg.com_height_m)
     phase = clamp(phase, 0.0, 1.0)
     lipm = sagittal_fraction(phase, k, cfg.step_time_s) + 0.5
@@ -216,21 +242,29 @@ def foot_rows_at(
     lift = cfg.lift_start_fraction
     swing = min(1.0, max(0.0, phase - lift) / max(cfg.swing_fraction - lift, 1e-6))
     swing_f = 0.5 * (1 - math.cos(math.pi * swing))
-    # Each foot moves from its start toward its end.
-    sup, sw = plan.support, 1 - plan.support
-    start, end = plan.start.tolist(), plan.end.tolist()
-    feet = [[], []]
-    feet[sup] = [a + support_f * (b - a) for a, b in zip(start[sup], end[sup])]
-    feet[sw] = [a + swing_f * (b - a) for a, b in zip(start[sw], end[sw])]
-    feet[sw][2] += cfg.step_height_m * 0.5 * (1 - math.cos(2 * math.pi * swing))
-    # Torso sways toward the support foot: both feet shift the other way in the walk frame.
-    toward = 1.0 if sup == 0 else -1.0
-    sway = (
+    lift_m = cfg.step_height_m * 0.5 * (1 - math.cos(2 * math.pi * swing))
+    sway_m = (
         sway_scale
         * cfg.sway_gain
         * cfg.ankle_half_width_m
         * lateral_fraction(phase, k, cfg.step_time_s)
     )
+    return support_f, swing_f, lift_m, sway_m
+
+
+def foot_rows(plan: StepPlan, fractions: tuple[float, float, float, float]) -> list[list[float]]:
+    """The feet (two lists, left and right, of x, y, z, yaw) of ``plan`` at the phase of
+    ``fractions`` (``foot_fractions``)."""
+    support_f, swing_f, lift_m, sway_m = fractions
+    # Each foot moves from its start toward its end.
+    sup, sw = plan.support, 1 - plan.support
+    start, way = plan.rows
+    feet = [[], []]
+    feet[sup] = [a + support_f * d for a, d in zip(start[sup], way[sup])]
+    feet[sw] = [a + swing_f * d for a, d in zip(start[sw], way[sw])]
+    feet[sw][2] += lift_m
+    # Torso sways toward the support foot: both feet shift the other way in the walk frame.
+    toward = 1.0 if sup == 0 else -1.0
     for foot in feet:
-        foot[1] -= toward * sway
+        foot[1] -= toward * sway_m
     return feet

@@ -29,7 +29,7 @@ import numpy as np
 
 from mimic.agents.base import Agent, JointCommand
 from mimic.agents.walk.engine import WalkEngine
-from mimic.floats import clamp, clip_symmetric, mean_rows
+from mimic.floats import RecentMeans, clamp, clip_symmetric
 from mimic.world.base import CYCLE_S, Observation
 
 __all__ = ["GoToConfig", "GoToPose", "pose_behind_ball", "wrap_angle"]
@@ -122,8 +122,10 @@ class GoToPose(Agent):
         self.engine = engine
         self.config = config
         self.period_s = engine.period_s
+        # Cycles in the steering's averaging window (a gait period).
+        self._window = max(1, round(engine.period_s / CYCLE_S))
+        self._history = RecentMeans(4, self._window)  # torso x, y, cos and sin of its yaw
         self._target = None
-        self._history: list[tuple[float, float, float, float]] = []
         self._integral = np.zeros(2)
         self._approaching = False
         self._retries = 0
@@ -155,40 +157,39 @@ class GoToPose(Agent):
         c, s = math.cos(yaw), math.sin(yaw)
         return c * dx + s * dy, -s * dx + c * dy, wrap_angle(heading - yaw)
 
-    def _smoothed_errors(self, obs: Observation, yaw: float) -> tuple[float, float, float]:
-        """``errors`` of the torso pose (heading ``yaw`` [rad]) averaged over the last gait
-        period: the torso sways and yaws with every step, and steering on that swing would
-        feed it."""
-        x, y = obs.torso_pos_m[:2].tolist()
-        self._history.append((x, y, math.cos(yaw), math.sin(yaw)))
-        n = max(1, round(self.engine.period_s / CYCLE_S))
-        del self._history[:-n]
-        px, py, c, s = mean_rows(self._history)
+    def _smoothed_errors(self, x: float, y: float, yaw: float) -> tuple[float, float, float]:
+        """``errors`` of the torso pose (``x``, ``y`` [m], heading ``yaw`` [rad]) averaged
+        over the last gait period: the torso sways and yaws with every step, and steering on
+        that swing would feed it."""
+        self._history.add(x, y, math.cos(yaw), math.sin(yaw))
+        px, py, c, s = self._history.means()
         return self._errors(px, py, math.atan2(s, c))
 
     def reset(self, obs: Observation) -> None:
         self.engine.reset(obs)
-        self._history = []
+        self._history.clear()
         self._stopping = False
         self._arrived = False
         self.done = False
 
     def act(self, obs: Observation) -> JointCommand:
+        yaw = obs.torso_yaw_rad  # read once, for the steering and the engine
         if self._target is not None:
-            self._steer(obs)
-        speeds = self.engine.act(obs)
+            self._steer(obs, yaw)
+        speeds = self.engine.act(obs, yaw)
         self.reference_rad = self.engine.reference_rad
         self.done = self._arrived
         return speeds
 
-    def _ball_waypoint(self, obs: Observation, yaw: float) -> tuple[float, float] | None:
-        """Waypoint (forward, left) [m] in the robot frame (torso heading ``yaw`` [rad]) that
-        leads around the ball to a staging point behind it, or None once the robot is in the
-        approach lane (or the ball is not near the target)."""
+    def _ball_waypoint(self, ball_xy, torso_xy, yaw: float) -> tuple[float, float] | None:
+        """Waypoint (forward, left) [m] in the robot frame (torso at ``torso_xy``, heading
+        ``yaw`` [rad]; the ball at ``ball_xy``, field frame [m]) that leads around the ball to
+        a staging point behind it, or None once the robot is in the approach lane (or the
+        ball is not near the target)."""
         cfg = self.config
         x, y, heading = self._target
-        ball_x, ball_y = obs.ball_pos_m[:2].tolist()
-        torso_x, torso_y = obs.torso_pos_m[:2].tolist()
+        ball_x, ball_y = ball_xy
+        torso_x, torso_y = torso_xy
         bx, by = ball_x - x, ball_y - y
         if not cfg.avoid_ball or math.hypot(bx, by) > cfg.ball_near_target_m:
             return None
@@ -239,15 +240,16 @@ class GoToPose(Agent):
         cy, sy = math.cos(yaw), math.sin(yaw)
         return cy * dx + sy * dy, -sy * dx + cy * dy
 
-    def _steer(self, obs: Observation) -> None:
+    def _steer(self, obs: Observation, yaw: float) -> None:
+        """``yaw``: the torso's (``obs.torso_yaw_rad``) [rad]."""
         cfg = self.config
-        yaw = obs.torso_yaw_rad
         if self.engine.state == "standing":
-            self._history = []  # standing still: the pose is exact
-        fx, fy, dh = self._smoothed_errors(obs, yaw)
+            self._history.clear()  # standing still: the pose is exact
+        tx, ty = obs.torso_pos_m[:2].tolist()
+        bx, by = obs.ball_pos_m[:2].tolist()
+        fx, fy, dh = self._smoothed_errors(tx, ty, yaw)
         # Next to the ball every extra correction risks touching it: settle for a little less.
         loose = 1.0
-        (bx, by), (tx, ty) = obs.ball_pos_m[:2].tolist(), obs.torso_pos_m[:2].tolist()
         ball_m = float(np.hypot(bx - tx, by - ty))
         near_ball = cfg.avoid_ball and ball_m < cfg.ball_slow_radius_m
         if near_ball:
@@ -277,7 +279,7 @@ class GoToPose(Agent):
             self.engine.stop()
             self._stopping = True
             return
-        way = self._ball_waypoint(obs, yaw)
+        way = self._ball_waypoint((bx, by), (tx, ty), yaw)
         if way is not None:
             fx, fy = way  # head for the waypoint; on arrival there, the next one takes over
             dist = math.hypot(fx, fy)
