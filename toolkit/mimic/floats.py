@@ -14,7 +14,15 @@ from collections import deque
 
 import numpy as np
 
-__all__ = ["clamp", "acos_domain", "clip_symmetric", "ordered_sum", "mean_rows", "RecentMeans"]
+__all__ = [
+    "clamp",
+    "clip_element",
+    "acos_domain",
+    "clip_symmetric",
+    "ordered_sum",
+    "mean_rows",
+    "RecentMeans",
+]
 
 
 def clamp(x: float, lo: float, hi: float) -> float:
@@ -23,6 +31,14 @@ def clamp(x: float, lo: float, hi: float) -> float:
     call overhead."""
     x = lo if lo > x else x
     return hi if hi < x else x
+
+
+def clip_element(x: float, lo: float, hi: float) -> float:
+    """One element of ``np.clip(values, lows, highs)`` with arrays of bounds, to the bit: a
+    value equal to a bound becomes the bound (the sign of a zero can change, unlike
+    ``clamp``), a NaN stays NaN."""
+    x = x if x > lo or x != x else lo
+    return x if x < hi or x != x else hi
 
 
 def acos_domain(x: float) -> float:
@@ -87,7 +103,10 @@ class RecentMeans:
     def means(self) -> tuple[float, ...]:
         """The column means (at least one row added)."""
         n = len(self._columns[0])
-        return tuple([ordered_sum(column) / n for column in self._columns])
+        means = []
+        for column in self._columns:
+            means.append(ordered_sum(column) / n)
+        return tuple(means)
 
     def clear(self) -> None:
         for column in self._columns:

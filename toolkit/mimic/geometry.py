@@ -28,9 +28,12 @@ __all__ = [
 def _floats(q_wxyz):
     """A float64 array's numbers as Python floats (the same values and arithmetic, quicker
     one at a time than numpy's scalars); anything else as it is."""
-    if isinstance(q_wxyz, np.ndarray) and q_wxyz.dtype == np.float64:
+    if isinstance(q_wxyz, np.ndarray) and q_wxyz.dtype == _FLOAT64:
         return q_wxyz.tolist()
     return q_wxyz
+
+
+_FLOAT64 = np.dtype(np.float64)
 
 
 def yaw_from_quat(q_wxyz) -> float:

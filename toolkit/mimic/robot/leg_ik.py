@@ -26,7 +26,6 @@ from math import acos, asin, atan2, cos, pi, sin, sqrt
 
 import numpy as np
 
-from mimic.floats import acos_domain, clamp
 from mimic.robot.description import body_by_name
 from mimic.robot.joints import joint_index, lower_limits_rad, upper_limits_rad
 
@@ -271,9 +270,14 @@ def _solve_passes(g: LegGeometry, ankle_xyz_m, rot_rows, passes: int) -> list[fl
     rx = r00 * vx + r10 * vy + r20 * vz
     # Knee: |Ry(q4) thigh + shank|^2 = l1^2 + l2^2 + 2 l1 l2 cos(beta + q4 - gamma), the 5 mm
     # knee offset appearing as the constant angles beta, gamma; the knee bends with q4 < 0.
-    dist = clamp(sqrt(vx * vx + vy * vy + vz * vz), g.reach_min_m, g.reach_max_m)
+    # (``clamp`` and ``acos_domain`` written out, here and below: the same comparisons.)
+    dist = sqrt(vx * vx + vy * vy + vz * vz)
+    dist = g.reach_min_m if g.reach_min_m > dist else dist
+    dist = g.reach_max_m if g.reach_max_m < dist else dist
     c = (g.l_squares - dist * dist) / g.l_twice_product
-    q4 = (g.knee_offset_rad - (pi - acos(acos_domain(c))) + pi) % _TWO_PI - pi  # wrapped
+    c = c if c < 1.0 else 1.0
+    c = c if c > -1.0 else -1.0
+    q4 = (g.knee_offset_rad - (pi - acos(c)) + pi) % _TWO_PI - pi  # wrapped
     # In the foot's sagittal plane: p = Rx(q6) r = Ry(q5) m with m = Ry(q4) thigh + shank.
     c6, s6 = cos(q6), sin(q6)
     px, pz = rx, s6 * ry + c6 * rz
@@ -305,7 +309,9 @@ def _solve_passes(g: LegGeometry, ankle_xyz_m, rot_rows, passes: int) -> list[fl
     m20 = -ss * rot1_b0 + cs * rot2_b0
     m21 = -ss * rot1_b1 + cs * rot2_b1
     m22 = -ss * rot1_b2 + cs * rot2_b2
-    phi = asin(acos_domain(m21))
+    m21 = m21 if m21 < 1.0 else 1.0
+    m21 = m21 if m21 > -1.0 else -1.0
+    phi = asin(m21)
     theta = atan2(-m20, m22)
     psi = atan2(-m01, m11)
     return [g.hyp_sign * psi, phi + g.sigma_rad, -theta, q4, q5, q6]

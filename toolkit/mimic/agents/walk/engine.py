@@ -29,6 +29,7 @@ the NAO's stand pose (``RobotDescription.stand_pose``), from which the keyframe 
 from __future__ import annotations
 
 import math
+from collections import deque
 
 import numpy as np
 
@@ -41,7 +42,7 @@ from mimic.agents.walk.gait import (
     nominal_foot,
     plan_step,
 )
-from mimic.floats import RecentMeans, clamp
+from mimic.floats import RecentMeans, clamp, clip_element
 from mimic.geometry import torso_pitch_roll as _pitch_roll_left
 from mimic.geometry import yaw_from_quat
 from mimic.robot.joints import joint_index
@@ -54,6 +55,9 @@ __all__ = ["WalkEngine", "torso_pitch_roll"]
 _LEGS = (leg_joint_indices("left"), leg_joint_indices("right"))
 # The same indices as plain ints, for the per-joint feedback.
 _LEG_JOINTS = tuple(tuple(int(i) for i in legs) for legs in _LEGS)
+# Each leg's joints follow each other in the NAO's joint table: its angles go in as a slice.
+_LEG_SLICES = tuple(slice(legs[0], legs[-1] + 1) for legs in _LEG_JOINTS)
+assert all(list(legs) == list(range(legs[0], legs[-1] + 1)) for legs in _LEG_JOINTS)
 _SIDES = ("left", "right")
 _SHOULDERS = (joint_index("left_shoulder_pitch"), joint_index("right_shoulder_pitch"))
 
@@ -69,7 +73,10 @@ def torso_pitch_roll(q_wxyz: np.ndarray, yaw_rad: float | None = None) -> tuple[
 
 
 def _wrap(a: float) -> float:
-    return (a + math.pi) % (2 * math.pi) - math.pi
+    return (a + _PI) % _TWO_PI - _PI
+
+
+_PI, _TWO_PI = math.pi, 2 * math.pi
 
 
 class WalkEngine(Agent):
@@ -98,13 +105,13 @@ class WalkEngine(Agent):
             foot_fractions(config, i / config.step_cycles) for i in range(config.step_cycles + 1)
         ]
         # The step command's bounds (hoisted: constant over the engine's life).
-        self._step_high = np.array(
-            [config.max_step_x_m, config.max_step_y_m, config.max_step_yaw_rad]
+        self._step_high = (config.max_step_x_m, config.max_step_y_m, config.max_step_yaw_rad)
+        self._step_change = (
+            config.max_step_change_x_m,
+            config.max_step_change_y_m,
+            config.max_step_change_yaw_rad,
         )
-        self._step_change = np.array(
-            [config.max_step_change_x_m, config.max_step_change_y_m, config.max_step_change_yaw_rad]
-        )
-        self._odometry_high = np.array([config.max_odometry_x_m, config.max_odometry_y_m])
+        self._odometry_high = (config.max_odometry_x_m, config.max_odometry_y_m)
         self._velocity = (0.0, 0.0, 0.0)
         self._stop_requested = False
         self._state = "standing"
@@ -169,10 +176,12 @@ class WalkEngine(Agent):
         feet = np.array([nominal_foot(cfg, 0), nominal_foot(cfg, 1)])
         self._plan = StepPlan(0, feet, feet.copy(), np.zeros(3))
         self._cycle_in_step = 0
-        self._set_step_cmd(np.zeros(3))
-        self._step_base = np.zeros(3)
+        # The step command, its ramped part and the odometry correction: plain floats.
+        self._set_step_cmd((0.0, 0.0, 0.0))
+        self._step_base = [0.0, 0.0, 0.0]
         self._pitch_state = (0.0, 0.0)
         self._tilt = (0.0, 0.0)  # this cycle's torso (pitch, roll), set by act
+        self._gyro = [0.0, 0.0, 0.0]  # this cycle's gyro rates [rad/s], set by act
         self._peak_tilt = 0.0
         self._blend_from = np.asarray(pose, dtype=float).copy()
         self._blend_t = 0.0
@@ -187,10 +196,10 @@ class WalkEngine(Agent):
         self._yaw_means = RecentMeans(2, 2 * cfg.step_cycles)
         # Odometry: torso positions of the last gait period (walking only), the step
         # commands that should have produced them, and the correction learnt from both.
-        self._pos_history: list[tuple[float, float]] = []
-        self._base_history: list[np.ndarray] = []
-        self._odometry = np.zeros(2)
-        self._line_step = np.zeros(2)
+        self._pos_history: deque[tuple[float, float]] = deque(maxlen=2 * cfg.step_cycles + 1)
+        self._base_history: list[tuple[float, float]] = []
+        self._odometry = (0.0, 0.0)
+        self._line_step = (0.0, 0.0)
         self.done = False
 
     def _begin(self, state: str) -> None:
@@ -203,12 +212,13 @@ class WalkEngine(Agent):
                 self._blend_from = np.array(self._prev_ref)  # restart from where the joints are
         if state == "halting":
             self._halt_from_walk = self._state_before == "walking"
+            # The pose the halt holds, then leaves for the stand pose: floats.
             if self._halt_from_walk:
-                self._halt_hold = np.array(self._walk_pose(self._plan.end.tolist(), self._lean_rad))
+                self._halt_hold = self._walk_pose(self._plan.end.tolist(), self._lean_rad)
             elif self._prev_ref is not None:
-                self._halt_hold = np.array(self._prev_ref)
+                self._halt_hold = self._prev_ref.copy()
             else:
-                self._halt_hold = self._blend_from.copy()
+                self._halt_hold = self._blend_from.tolist()
 
     def act(self, obs: Observation, yaw_rad: float | None = None) -> JointCommand:
         """``yaw_rad``: ``obs.torso_yaw_rad`` if the caller has read it already."""
@@ -217,9 +227,12 @@ class WalkEngine(Agent):
         yaw = yaw_from_quat(quat) if yaw_rad is None else yaw_rad
         self._update_heading(obs, yaw)
         # This cycle's torso tilt, read once (the feedback uses it too).
-        pitch, roll = self._tilt = torso_pitch_roll(quat, yaw)
+        pitch, roll_left = _pitch_roll_left(quat, yaw)
+        roll = -roll_left  # right-positive: see torso_pitch_roll
+        self._tilt = (pitch, roll)
         lean = self._lean_rad
-        self._pitch_state = (pitch - lean, float(obs.gyro_rad_s[1]))
+        self._gyro = obs.gyro_rad_s.tolist()  # the feedback reads it too
+        self._pitch_state = (pitch - lean, self._gyro[1])
         self._peak_tilt = max(self._peak_tilt, abs(pitch - lean), abs(roll))
         # References are planned for the end of this cycle: the proportional term closes the
         # gap to them, the feed-forward term adds the plan's own speed over the cycle.
@@ -227,32 +240,47 @@ class WalkEngine(Agent):
         aim = ref if self._prev_ref is None or not cfg.track_previous else self._prev_ref
         angles = obs.joint_angles_rad.tolist()
         gain, top = cfg.tracking_gain_per_s, self._servos.max_speed_rad_s
-        offset = [r - n for r, n in zip(ref, nominal)]  # the IMU feedback's part
-        speeds = []
+        low = -top
+        offset, speeds = [], []  # offset: the IMU feedback's part of the reference
         # Joint by joint on plain floats: the numbers of the servos' ``track`` (the gap to the
         # aim times the gain, capped: ``clip_symmetric``) plus the feed-forward, capped again.
         if self._prev_nominal is None:
-            for a, q in zip(aim, angles):
+            for a, q, n, r in zip(aim, angles, nominal, ref):
+                offset.append(r - n)
                 speed = gain * (a - q)
-                speed = -top if -top > speed else speed
+                speed = low if low > speed else speed
                 speeds.append(top if top < speed else speed)
         else:
-            ff, fb_ff = cfg.feedforward, cfg.feedback_feedforward
-            for a, q, n, n0, o, o0 in zip(
-                aim, angles, nominal, self._prev_nominal, offset, self._prev_offset
+            ff, fb_ff, cycle_s = cfg.feedforward, cfg.feedback_feedforward, CYCLE_S
+            for a, q, n, r, n0, o0 in zip(
+                aim, angles, nominal, ref, self._prev_nominal, self._prev_offset
             ):
+                o = r - n
+                offset.append(o)
                 speed = gain * (a - q)
-                speed = -top if -top > speed else speed
+                speed = low if low > speed else speed
                 speed = top if top < speed else speed
                 # The planned (feedback-free) reference's speed, the feedback's change.
-                speed = speed + (ff * (n - n0) + fb_ff * (o - o0)) / CYCLE_S
-                speed = -top if -top > speed else speed
+                speed = speed + (ff * (n - n0) + fb_ff * (o - o0)) / cycle_s
+                speed = low if low > speed else speed
                 speeds.append(top if top < speed else speed)
         self._prev_nominal = nominal
         self._prev_ref = ref
         self._prev_offset = offset
-        self.reference_rad = np.array(ref)
+        self._reference_floats, self._reference_array = ref, None
         return JointCommand.speeds(np.array(speeds))
+
+    @property
+    def reference_rad(self) -> np.ndarray | None:
+        """(N,) the joint references of the last cycle [rad] (``Agent.reference_rad``),
+        made into an array from the engine's floats when first read."""
+        if self._reference_array is None and self._reference_floats is not None:
+            self._reference_array = np.array(self._reference_floats)
+        return self._reference_array
+
+    @reference_rad.setter
+    def reference_rad(self, value: np.ndarray | None) -> None:
+        self._reference_floats, self._reference_array = None, value
 
     # --- heading and line -----------------------------------------------------------------
     def _update_heading(self, obs: Observation, yaw: float) -> None:
@@ -267,12 +295,11 @@ class WalkEngine(Agent):
         if self._state != "walking":
             self._heading_rad = yaw
             self._line = None
-            self._pos_history = []
+            self._pos_history.clear()
             self._base_history = []
             return
         pos = obs.torso_pos_m.tolist()
-        self._pos_history.append((pos[0], pos[1]))
-        del self._pos_history[: -(2 * cfg.step_cycles + 1)]
+        self._pos_history.append((pos[0], pos[1]))  # a full deque drops its oldest
         vx, vy, yaw_rate = self._velocity
         # Anti-windup: when the turn lags the command, the desired heading waits for it. Only
         # the command's own advance waits: a heading knocked away (a slipping foot, a rocking
@@ -304,11 +331,11 @@ class WalkEngine(Agent):
             most = cfg.max_side_line_step_m
             back = float(clamp(cfg.side_line_gain * offset, -most, most))
             across = h + math.pi / 2 - self._mean_yaw_rad  # the line's left, robot frame
-            self._line_step = -back * np.array([math.cos(across), math.sin(across)])
+            self._line_step = (-back * math.cos(across), -back * math.sin(across))
         else:
             self._line = None
         if self._line is None or vy == 0.0:
-            self._line_step = np.zeros(2)
+            self._line_step = (0.0, 0.0)
 
     # --- internals ------------------------------------------------------------------------
     def _walk_pose(self, feet: list[list[float]], lean_rad: float) -> list[float]:
@@ -323,17 +350,16 @@ class WalkEngine(Agent):
             cz, sz = math.cos(yaw), math.sin(yaw)
             ankle = (c * x - s * z, y, s * x + c * z)
             rot = ((c * cz, c * -sz, -s), (sz, cz, 0.0), (s * cz, s * -sz, c))
-            angles = leg_ik_floats(_SIDES[side], ankle, rot, passes=2)
-            for joint, angle in zip(_LEG_JOINTS[side], angles):
-                q[joint] = angle
-        swing = self.config.arm_swing_rad_per_m
+            q[_LEG_SLICES[side]] = leg_ik_floats(_SIDES[side], ankle, rot, passes=2)
+        cfg = self.config
+        swing = cfg.arm_swing_rad_per_m
         if swing:
             # The arm goes with the opposite leg, cancelling part of its yaw moment.
-            q[_SHOULDERS[0]] += swing * (feet[1][0] - self.config.ankle_x_m)
-            q[_SHOULDERS[1]] += swing * (feet[0][0] - self.config.ankle_x_m)
+            q[_SHOULDERS[0]] += swing * (feet[1][0] - cfg.ankle_x_m)
+            q[_SHOULDERS[1]] += swing * (feet[0][0] - cfg.ankle_x_m)
         return q
 
-    def _set_step_cmd(self, cmd: np.ndarray) -> None:
+    def _set_step_cmd(self, cmd) -> None:
         """This step's command (dx, dy, dyaw), and the torso lean it asks for [rad] (worked
         out once per step: the walk reads it several times a cycle)."""
         cfg = self.config
@@ -342,35 +368,45 @@ class WalkEngine(Agent):
             cfg.torso_pitch_rad + cfg.torso_pitch_per_speed * float(cmd[0]) / cfg.step_time_s
         )
 
-    def _next_command(self) -> np.ndarray:
+    def _next_command(self) -> tuple[float, float, float]:
         """This step's command (dx, dy, dyaw): the velocity command ramped and clipped, its
-        forward part corrected by the torso pitch at the step start (capture the fall)."""
+        forward part corrected by the torso pitch at the step start (capture the fall).
+
+        On plain floats, component by component (``clip_element``: np.clip's numbers)."""
         cfg = self.config
-        want = np.array(self._velocity) * cfg.step_time_s
-        want[0] *= cfg.stride_scale
+        t = cfg.step_time_s
+        vx, vy, yaw_rate = self._velocity
+        want = [vx * t * cfg.stride_scale, vy * t, yaw_rate * t]
         if not self._stop_requested:
             yaw = self._mean_yaw_rad
             want[2] += cfg.heading_gain * _wrap(self._aim_rad - yaw)
-        high, lim = self._step_high, self._step_change
-        # ``ndarray.clip``: what np.clip calls, without its dispatch.
-        want = want.clip(-high, high)
-        self._step_base = self._step_base + (want - self._step_base).clip(-lim, lim)
+        high = self._step_high
+        want = [clip_element(w, -h, h) for w, h in zip(want, high)]
+        base = [
+            b + clip_element(w - b, -c, c)
+            for w, b, c in zip(want, self._step_base, self._step_change)
+        ]
         if cfg.caution_tilt_rad and self._peak_tilt > cfg.caution_tilt_rad:
             # The last step rocked the torso hard: shorter, straight steps until it calms.
-            self._step_base[0] *= cfg.caution_step_scale
-            self._step_base[2] = 0.0
+            base[0] *= cfg.caution_step_scale
+            base[2] = 0.0
+        self._step_base = base
         calm = self._peak_tilt < cfg.odometry_calm_tilt_rad
         self._peak_tilt = 0.0
         pitch_err, pitch_rate = self._pitch_state
-        cmd = self._step_base.copy()
-        cmd[:2] += self._odometry_correction(calm)
+        cmd = base.copy()
+        odometry_x, odometry_y = self._odometry_correction(calm)
+        cmd[0] += odometry_x
+        cmd[1] += odometry_y
         if not self._stop_requested:
-            cmd[:2] += self._line_step
+            cmd[0] += self._line_step[0]
+            cmd[1] += self._line_step[1]
         cmd[0] += cfg.step_per_pitch_m * pitch_err + cfg.step_per_pitch_rate_m_s * pitch_rate
-        return cmd.clip(-high, high)
+        x, y, yaw = (clip_element(c, -h, h) for c, h in zip(cmd, high))
+        return x, y, yaw
 
-    def _odometry_correction(self, calm: bool) -> np.ndarray:
-        """(2,) forward and sideways step correction [m]: the integrated gap between the
+    def _odometry_correction(self, calm: bool) -> tuple[float, float]:
+        """Forward and sideways step correction [m]: the integrated gap between the
         steps commanded over the last gait period and the torso motion they produced.
 
         Short steps carry a bias of the gait (stepping in place or sideways creeps backward
@@ -384,20 +420,22 @@ class WalkEngine(Agent):
         last steps still close the feet at the nominal stance."""
         cfg = self.config
         if self._stop_requested or not cfg.odometry_gain:
-            self._odometry[:] = 0.0
+            self._odometry = (0.0, 0.0)
             return self._odometry
         n = 2 * cfg.step_cycles
         if calm and len(self._pos_history) > n and len(self._base_history) >= 2:
             (x0, y0), (x1, y1) = self._pos_history[0], self._pos_history[-1]
             c, s = math.cos(self._mean_yaw_rad), math.sin(self._mean_yaw_rad)
-            walked = np.array([c * (x1 - x0) + s * (y1 - y0), -s * (x1 - x0) + c * (y1 - y0)])
-            wanted = self._base_history[-2] + self._base_history[-1]
-            wanted[0] /= cfg.stride_scale
-            lim = self._odometry_high
-            self._odometry = (self._odometry + cfg.odometry_gain * (wanted - walked) / 2).clip(
-                -lim, lim
+            walked = (c * (x1 - x0) + s * (y1 - y0), -s * (x1 - x0) + c * (y1 - y0))
+            (bx0, by0), (bx1, by1) = self._base_history[-2], self._base_history[-1]
+            wanted = ((bx0 + bx1) / cfg.stride_scale, by0 + by1)
+            gain = cfg.odometry_gain
+            self._odometry = tuple(
+                clip_element(o + gain * (w - k) / 2, -lim, lim)
+                for o, w, k, lim in zip(self._odometry, wanted, walked, self._odometry_high)
             )
-        return self._odometry * self._odometry_weight()
+        weight = self._odometry_weight()
+        return self._odometry[0] * weight, self._odometry[1] * weight
 
     def _odometry_weight(self) -> float:
         """1 for short forward steps, fading to 0 at ``odometry_fade_step_m``."""
@@ -433,12 +471,12 @@ class WalkEngine(Agent):
             self._cycle_in_step = 1
         feet = foot_rows(self._plan, self._fractions[self._cycle_in_step])
         if cfg.yaw_hold_gain:
-            err = float(clamp(_wrap(self._yaw_rad - self._aim_rad), -0.3, 0.3))
+            err = clamp(_wrap(self._yaw_rad - self._aim_rad), -0.3, 0.3)
             feet[self._plan.support][3] += cfg.yaw_hold_gain * err
         nominal = self._walk_pose(feet, self._lean_rad)
         if self._prev_nominal is not None and cfg.max_reference_speed_rad_s:
             nominal = self._rate_limited(nominal)
-        return nominal, self._feedback(nominal, obs)
+        return nominal, self._feedback(nominal)
 
     def _start_target(self) -> np.ndarray:
         """The walk posture the start blends into: the feet where the first step starts,
@@ -457,15 +495,16 @@ class WalkEngine(Agent):
         cfg = self.config
         self._blend_t += CYCLE_S
         settle = cfg.halt_settle_s if self._halt_from_walk else 0.0
-        hold = self._halt_hold
         a = min(1.0, max(0.0, self._blend_t - settle) / cfg.blend_s)
         a = 0.5 * (1 - math.cos(math.pi * a))
-        nominal = (1 - a) * hold + a * self._stand
-        fed = np.array(self._feedback(nominal.tolist(), obs, both_support=True))
-        ref = nominal + (1 - a) * (fed - nominal)
+        keep = 1 - a
+        # Joint by joint on plain floats: (1 - a) hold + a stand, then the feedback faded.
+        nominal = [keep * h + a * s for h, s in zip(self._halt_hold, self._stand_list)]
+        fed = self._feedback(nominal, both_support=True)
+        ref = [n + keep * (f - n) for n, f in zip(nominal, fed)]
         if self._blend_t >= settle + cfg.blend_s - 1e-9:
             self._begin("standing")
-        return nominal.tolist(), ref.tolist()
+        return nominal, ref
 
     def _rate_limited(self, nominal: list[float]) -> list[float]:
         """The planned pose moved from last cycle's by at most the reference speed cap per
@@ -483,7 +522,7 @@ class WalkEngine(Agent):
     def _at_rest(self) -> bool:
         """The ramped command is zero and the last step ended near the nominal stance."""
         feet = np.array([nominal_foot(self.config, 0), nominal_foot(self.config, 1)])
-        return not np.any(self._step_base) and bool(
+        return not any(self._step_base) and bool(
             np.abs(self._plan.end - feet).max() < self.config.rest_tolerance_m
         )
 
@@ -496,19 +535,17 @@ class WalkEngine(Agent):
             support = 1 - self._plan.support
             self.steps_taken += 1
         self._set_step_cmd(self._next_command())
-        self._base_history.append(self._step_base[:2].copy())
+        self._base_history.append((self._step_base[0], self._step_base[1]))
         del self._base_history[:-2]
         self._plan = plan_step(self.config, support, end, self._step_cmd)
 
-    def _feedback(
-        self, nominal: list[float], obs: Observation, both_support: bool = False
-    ) -> list[float]:
-        """``nominal`` plus IMU feedback (a new list): torso tilt (this cycle's, read by
-        ``act``) onto both hips and, as foot placement, onto the swing hip; torso tilt onto
-        the support ankle, gyro rates onto both ankles."""
+    def _feedback(self, nominal: list[float], both_support: bool = False) -> list[float]:
+        """``nominal`` plus IMU feedback (a new list): torso tilt and gyro rates (this
+        cycle's, read by ``act``): the tilt onto both hips and, as foot placement, onto the
+        swing hip, and onto the support ankle; the gyro rates onto both ankles."""
         cfg = self.config
         ref = nominal.copy()
-        gx, gy, _ = obs.gyro_rad_s.tolist()
+        gx, gy, _ = self._gyro
         pitch, roll = self._tilt
         pitch -= self._lean_rad
         for side in (0, 1):

@@ -20,7 +20,7 @@ support foot along the pendulum's cosh profile.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from functools import cached_property
 
 import numpy as np
@@ -188,14 +188,14 @@ class StepPlan:
     start: np.ndarray  # (2, 4)
     end: np.ndarray  # (2, 4)
     command: np.ndarray  # (3,) dx, dy, dyaw per step
+    # ``start`` and ``end - start`` as plain floats, two lists (left, right) of four each:
+    # worked out once per step for ``foot_rows``, every cycle (a plan is not changed once
+    # made).
+    rows: tuple[list[list[float]], list[list[float]]] = field(init=False, repr=False, compare=False)
 
-    @cached_property
-    def rows(self) -> tuple[list[list[float]], list[list[float]]]:
-        """``start`` and ``end - start`` as plain floats, two lists (left, right) of four
-        each: worked out once per step for ``foot_rows_at``, every cycle (a plan is not
-        changed once made)."""
+    def __post_init__(self) -> None:
         start, end = self.start.tolist(), self.end.tolist()
-        return start, [[b - a for a, b in zip(s, e)] for s, e in zip(start, end)]
+        self.rows = (start, [[b - a for a, b in zip(s, e)] for s, e in zip(start, end)])
 
 
 def nominal_foot(cfg: WalkConfig, side: int) -> np.ndarray:
@@ -206,14 +206,18 @@ def nominal_foot(cfg: WalkConfig, side: int) -> np.ndarray:
 
 def plan_step(cfg: WalkConfig, support: int, start: np.ndarray, command: np.ndarray) -> StepPlan:
     """The step that starts from feet ``start`` (2, 4) with step command (dx, dy, dyaw)."""
-    end = np.empty((2, 4))
-    dx, dy, dyaw = command
+    command = np.asarray(command, dtype=float)
+    dx, dy, dyaw = command.tolist()
+    end = []
     for side in (0, 1):
+        # Column by column on plain floats: nominal_foot + sign * (dx, dy, 0, dyaw) + bias.
         s = 1.0 if side == 0 else -1.0
         sign = -0.5 if side == support else 0.5
-        bias = np.array([0.0, s * abs(dy) / 2, 0.0, s * abs(dyaw) / 2])
-        end[side] = nominal_foot(cfg, side) + sign * np.array([dx, dy, 0.0, dyaw]) + bias
-    return StepPlan(support, np.asarray(start, dtype=float).copy(), end, np.asarray(command))
+        nominal = (cfg.ankle_x_m, s * cfg.ankle_half_width_m, -cfg.ankle_depth_m, 0.0)
+        bias = (0.0, s * abs(dy) / 2, 0.0, s * abs(dyaw) / 2)
+        step = (dx, dy, 0.0, dyaw)
+        end.append([n + sign * c + b for n, c, b in zip(nominal, step, bias)])
+    return StepPlan(support, np.asarray(start, dtype=float).copy(), np.array(end), command)
 
 
 def feet_at(cfg: WalkConfig, plan: StepPlan, phase: float, sway_scale: float = 1.0) -> np.ndarray:
@@ -256,15 +260,14 @@ def foot_rows(plan: StepPlan, fractions: tuple[float, float, float, float]) -> l
     """The feet (two lists, left and right, of x, y, z, yaw) of ``plan`` at the phase of
     ``fractions`` (``foot_fractions``)."""
     support_f, swing_f, lift_m, sway_m = fractions
-    # Each foot moves from its start toward its end.
-    sup, sw = plan.support, 1 - plan.support
+    sup = plan.support
     start, way = plan.rows
-    feet = [[], []]
-    feet[sup] = [a + support_f * d for a, d in zip(start[sup], way[sup])]
-    feet[sw] = [a + swing_f * d for a, d in zip(start[sw], way[sw])]
-    feet[sw][2] += lift_m
     # Torso sways toward the support foot: both feet shift the other way in the walk frame.
-    toward = 1.0 if sup == 0 else -1.0
-    for foot in feet:
-        foot[1] -= toward * sway_m
+    shift = (1.0 if sup == 0 else -1.0) * sway_m
+    # Each foot moves from its start toward its end (written out: this runs every cycle).
+    feet = [None, None]
+    for side, f in ((sup, support_f), (1 - sup, swing_f)):
+        (x, y, z, yaw), (dx, dy, dz, dyaw) = start[side], way[side]
+        feet[side] = [x + f * dx, y + f * dy - shift, z + f * dz, yaw + f * dyaw]
+    feet[1 - sup][2] += lift_m
     return feet

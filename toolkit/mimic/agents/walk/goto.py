@@ -30,6 +30,7 @@ import numpy as np
 from mimic.agents.base import Agent, JointCommand
 from mimic.agents.walk.engine import WalkEngine
 from mimic.floats import RecentMeans, clamp, clip_symmetric
+from mimic.geometry import yaw_from_quat
 from mimic.world.base import CYCLE_S, Observation
 
 __all__ = ["GoToConfig", "GoToPose", "pose_behind_ball", "wrap_angle"]
@@ -37,7 +38,10 @@ __all__ = ["GoToConfig", "GoToPose", "pose_behind_ball", "wrap_angle"]
 
 def wrap_angle(a: float) -> float:
     """Angle wrapped to [-pi, pi) [rad]."""
-    return (a + math.pi) % (2 * math.pi) - math.pi
+    return (a + _PI) % _TWO_PI - _PI
+
+
+_PI, _TWO_PI = math.pi, 2 * math.pi
 
 
 def pose_behind_ball(ball_xy, target_xy, ball_offset_m) -> tuple[float, float, float]:
@@ -173,13 +177,24 @@ class GoToPose(Agent):
         self.done = False
 
     def act(self, obs: Observation) -> JointCommand:
-        yaw = obs.torso_yaw_rad  # read once, for the steering and the engine
+        # obs.torso_yaw_rad, read once, for the steering and the engine.
+        yaw = yaw_from_quat(obs.torso_quat_wxyz.tolist())
         if self._target is not None:
             self._steer(obs, yaw)
         speeds = self.engine.act(obs, yaw)
-        self.reference_rad = self.engine.reference_rad
         self.done = self._arrived
         return speeds
+
+    @property
+    def reference_rad(self) -> np.ndarray | None:
+        """The engine's references (``WalkEngine.reference_rad``): this agent only steers."""
+        return self.engine.reference_rad
+
+    @reference_rad.setter
+    def reference_rad(self, value: np.ndarray | None) -> None:
+        # Only Agent.__init__ sets it (to None): the references are the engine's.
+        if value is not None:
+            raise AttributeError("GoToPose's references are its engine's")
 
     def _ball_waypoint(self, ball_xy, torso_xy, yaw: float) -> tuple[float, float] | None:
         """Waypoint (forward, left) [m] in the robot frame (torso at ``torso_xy``, heading
@@ -203,28 +218,29 @@ class GoToPose(Agent):
             self._approaching = abs(robot_left) < 2 * lane and robot_fwd < ball_fwd - 0.1
         else:
             aligned = abs(wrap_angle(heading - yaw)) < cfg.approach_heading_rad
-            self._approaching = (abs(robot_left) < lane and robot_fwd < -lane and aligned) or float(
-                np.hypot(robot_fwd, robot_left)
-            ) < cfg.tolerance_m
+            self._approaching = (
+                abs(robot_left) < lane and robot_fwd < -lane and aligned
+            ) or _hypot_below(robot_fwd, robot_left, cfg.tolerance_m)
         if self._approaching:
             return None
         stage_fwd, stage_left = -cfg.ball_clearance_m, 0.0
         way_fwd, way_left = stage_fwd, stage_left
         away_fwd, away_left = robot_fwd - ball_fwd, robot_left - ball_left
-        reach = float(np.hypot(away_fwd, away_left))
-        if reach < cfg.ball_inner_m:
+        if _hypot_below(away_fwd, away_left, cfg.ball_inner_m):
             # Too close to the ball anywhere but the lane: back straight away from it first.
+            reach = float(np.hypot(away_fwd, away_left))
             back_m = cfg.ball_clearance_m + 0.05
             way_fwd = ball_fwd + away_fwd / max(reach, 1e-9) * back_m
             way_left = ball_left + away_left / max(reach, 1e-9) * back_m
-        elif (
-            _segment_distance(
-                (ball_fwd, ball_left), (robot_fwd, robot_left), (stage_fwd, stage_left)
-            )
-            < cfg.ball_clearance_m
+        elif _segment_distance_below(
+            (ball_fwd, ball_left),
+            (robot_fwd, robot_left),
+            (stage_fwd, stage_left),
+            cfg.ball_clearance_m,
         ):
             # The way to the staging point passes the ball: orbit it at the clearance, one
             # short chord at a time, on the side that reaches the staging point sooner.
+            reach = float(np.hypot(away_fwd, away_left))
             here = math.atan2(away_left, away_fwd)
             there = math.atan2(stage_left - ball_left, stage_fwd - ball_fwd)
             turn = wrap_angle(there - here)
@@ -245,13 +261,13 @@ class GoToPose(Agent):
         cfg = self.config
         if self.engine.state == "standing":
             self._history.clear()  # standing still: the pose is exact
-        tx, ty = obs.torso_pos_m[:2].tolist()
-        bx, by = obs.ball_pos_m[:2].tolist()
+        tx, ty = obs.torso_pos_m.tolist()[:2]
+        bx, by = obs.ball_pos_m.tolist()[:2]
         fx, fy, dh = self._smoothed_errors(tx, ty, yaw)
         # Next to the ball every extra correction risks touching it: settle for a little less.
         loose = 1.0
-        ball_m = float(np.hypot(bx - tx, by - ty))
-        near_ball = cfg.avoid_ball and ball_m < cfg.ball_slow_radius_m
+        ball_slow = _hypot_below(bx - tx, by - ty, cfg.ball_slow_radius_m)
+        near_ball = cfg.avoid_ball and ball_slow
         if near_ball:
             loose = cfg.near_ball_tolerance_scale
         elif self.engine.state != "standing":
@@ -317,7 +333,7 @@ class GoToPose(Agent):
             vx, vy = vx * scale, vy * scale
         if cfg.avoid_ball and way is None:
             # Short steps near the ball: a long stride's swing foot would reach it.
-            if ball_m < cfg.ball_slow_radius_m:
+            if ball_slow:
                 scale = min(1.0, cfg.ball_approach_speed_m_s / max(math.hypot(vx, vy), 1e-9))
                 vx, vy = vx * scale, vy * scale
                 if cfg.ball_line_up_first and vx > 0.0:
@@ -327,6 +343,46 @@ class GoToPose(Agent):
                     vx *= float(clamp(2.0 - off, 0.0, 1.0))
         most = cfg.max_yaw_rate_rad_s
         self.engine.set_velocity(vx, vy, float(clamp(yaw_rate, -most, most)))
+
+
+# The steering compares distances from np.hypot with bounds, and that is all it uses them for
+# (but on rare branches). The squared distance answers such a comparison unless it lies
+# within a relative _BAND of the squared bound: np.hypot's result (within an ulp of the
+# exact distance) cannot fall on the other side of the bound then; inside the band np.hypot
+# decides. The same answers, without np.hypot's per-call cost on every cycle.
+_BAND = 1e-9
+
+
+def _hypot_below(dx: float, dy: float, bound: float) -> bool:
+    """``np.hypot(dx, dy) < bound``: the same answer, np.hypot called only near the bound."""
+    below = _squared_below(dx * dx + dy * dy, bound)
+    return float(np.hypot(dx, dy)) < bound if below is None else below
+
+
+def _squared_below(squared: float, bound: float) -> bool | None:
+    """Whether the distance whose square (on plain floats) is ``squared`` is below ``bound``;
+    None within the band around the bound (and for a bound too small or too large to square
+    safely), where the exact distance must decide."""
+    if 1e-100 < bound < 1e100:
+        bound2 = bound * bound
+        if squared < bound2 * (1 - _BAND):
+            return True
+        if squared > bound2 * (1 + _BAND):
+            return False
+    return None
+
+
+def _segment_distance_below(point, a, b, bound: float) -> bool:
+    """``_segment_distance(point, a, b) < bound``, the same answer: the distance worked out
+    on plain floats (it differs from numpy's by roundings only, far inside the band), numpy's
+    deciding near the bound."""
+    (px, py), (ax, ay), (bx, by) = point, a, b
+    abx, aby = bx - ax, by - ay
+    along = ((px - ax) * abx + (py - ay) * aby) / max(abx * abx + aby * aby, 1e-12)
+    t = clamp(along, 0.0, 1.0)
+    dx, dy = ax + t * abx - px, ay + t * aby - py
+    below = _squared_below(dx * dx + dy * dy, bound)
+    return _segment_distance(point, a, b) < bound if below is None else below
 
 
 def _segment_distance(point, a, b) -> float:
