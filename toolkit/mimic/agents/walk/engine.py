@@ -350,7 +350,7 @@ class WalkEngine(Agent):
             cz, sz = math.cos(yaw), math.sin(yaw)
             ankle = (c * x - s * z, y, s * x + c * z)
             rot = ((c * cz, c * -sz, -s), (sz, cz, 0.0), (s * cz, s * -sz, c))
-            q[_LEG_SLICES[side]] = leg_ik_floats(_SIDES[side], ankle, rot, passes=2)
+            q[_LEG_SLICES[side]] = leg_ik_floats(_SIDES[side], ankle, rot, 2)
         cfg = self.config
         swing = cfg.arm_swing_rad_per_m
         if swing:
@@ -376,15 +376,19 @@ class WalkEngine(Agent):
         cfg = self.config
         t = cfg.step_time_s
         vx, vy, yaw_rate = self._velocity
-        want = [vx * t * cfg.stride_scale, vy * t, yaw_rate * t]
+        want_x, want_y, want_yaw = vx * t * cfg.stride_scale, vy * t, yaw_rate * t
         if not self._stop_requested:
             yaw = self._mean_yaw_rad
-            want[2] += cfg.heading_gain * _wrap(self._aim_rad - yaw)
-        high = self._step_high
-        want = [clip_element(w, -h, h) for w, h in zip(want, high)]
+            want_yaw += cfg.heading_gain * _wrap(self._aim_rad - yaw)
+        (high_x, high_y, high_yaw), (ramp_x, ramp_y, ramp_yaw) = self._step_high, self._step_change
+        want_x = clip_element(want_x, -high_x, high_x)
+        want_y = clip_element(want_y, -high_y, high_y)
+        want_yaw = clip_element(want_yaw, -high_yaw, high_yaw)
+        base_x, base_y, base_yaw = self._step_base
         base = [
-            b + clip_element(w - b, -c, c)
-            for w, b, c in zip(want, self._step_base, self._step_change)
+            base_x + clip_element(want_x - base_x, -ramp_x, ramp_x),
+            base_y + clip_element(want_y - base_y, -ramp_y, ramp_y),
+            base_yaw + clip_element(want_yaw - base_yaw, -ramp_yaw, ramp_yaw),
         ]
         if cfg.caution_tilt_rad and self._peak_tilt > cfg.caution_tilt_rad:
             # The last step rocked the torso hard: shorter, straight steps until it calms.
@@ -394,16 +398,19 @@ class WalkEngine(Agent):
         calm = self._peak_tilt < cfg.odometry_calm_tilt_rad
         self._peak_tilt = 0.0
         pitch_err, pitch_rate = self._pitch_state
-        cmd = base.copy()
+        x, y, yaw = base
         odometry_x, odometry_y = self._odometry_correction(calm)
-        cmd[0] += odometry_x
-        cmd[1] += odometry_y
+        x += odometry_x
+        y += odometry_y
         if not self._stop_requested:
-            cmd[0] += self._line_step[0]
-            cmd[1] += self._line_step[1]
-        cmd[0] += cfg.step_per_pitch_m * pitch_err + cfg.step_per_pitch_rate_m_s * pitch_rate
-        x, y, yaw = (clip_element(c, -h, h) for c, h in zip(cmd, high))
-        return x, y, yaw
+            x += self._line_step[0]
+            y += self._line_step[1]
+        x += cfg.step_per_pitch_m * pitch_err + cfg.step_per_pitch_rate_m_s * pitch_rate
+        return (
+            clip_element(x, -high_x, high_x),
+            clip_element(y, -high_y, high_y),
+            clip_element(yaw, -high_yaw, high_yaw),
+        )
 
     def _odometry_correction(self, calm: bool) -> tuple[float, float]:
         """Forward and sideways step correction [m]: the integrated gap between the
@@ -430,9 +437,10 @@ class WalkEngine(Agent):
             (bx0, by0), (bx1, by1) = self._base_history[-2], self._base_history[-1]
             wanted = ((bx0 + bx1) / cfg.stride_scale, by0 + by1)
             gain = cfg.odometry_gain
-            self._odometry = tuple(
-                clip_element(o + gain * (w - k) / 2, -lim, lim)
-                for o, w, k, lim in zip(self._odometry, wanted, walked, self._odometry_high)
+            (odometry_x, odometry_y), (lim_x, lim_y) = self._odometry, self._odometry_high
+            self._odometry = (
+                clip_element(odometry_x + gain * (wanted[0] - walked[0]) / 2, -lim_x, lim_x),
+                clip_element(odometry_y + gain * (wanted[1] - walked[1]) / 2, -lim_y, lim_y),
             )
         weight = self._odometry_weight()
         return self._odometry[0] * weight, self._odometry[1] * weight
@@ -548,16 +556,21 @@ class WalkEngine(Agent):
         gx, gy, _ = self._gyro
         pitch, roll = self._tilt
         pitch -= self._lean_rad
+        # Each term once (both legs add the same numbers).
+        gyro_pitch, gyro_roll = cfg.gyro_pitch_gain * gy, cfg.gyro_roll_gain * gx
+        tilt_pitch, tilt_roll = cfg.tilt_pitch_gain * pitch, cfg.tilt_roll_gain * roll
+        swing_pitch, swing_roll = cfg.swing_pitch_gain * pitch, cfg.swing_roll_gain * roll
+        ankle_pitch, ankle_roll = cfg.ankle_pitch_gain * pitch, cfg.ankle_roll_gain * roll
         for side in (0, 1):
             legs = _LEG_JOINTS[side]
-            ref[legs[4]] += cfg.gyro_pitch_gain * gy
-            ref[legs[5]] += cfg.gyro_roll_gain * gx
-            ref[legs[2]] += cfg.tilt_pitch_gain * pitch
-            ref[legs[1]] += cfg.tilt_roll_gain * roll
+            ref[legs[4]] += gyro_pitch
+            ref[legs[5]] += gyro_roll
+            ref[legs[2]] += tilt_pitch
+            ref[legs[1]] += tilt_roll
             if side != self._plan.support and not both_support:
-                ref[legs[2]] += cfg.swing_pitch_gain * pitch
-                ref[legs[1]] += cfg.swing_roll_gain * roll
+                ref[legs[2]] += swing_pitch
+                ref[legs[1]] += swing_roll
             else:
-                ref[legs[4]] += cfg.ankle_pitch_gain * pitch
-                ref[legs[5]] += cfg.ankle_roll_gain * roll
+                ref[legs[4]] += ankle_pitch
+                ref[legs[5]] += ankle_roll
         return ref

@@ -208,15 +208,21 @@ def plan_step(cfg: WalkConfig, support: int, start: np.ndarray, command: np.ndar
     """The step that starts from feet ``start`` (2, 4) with step command (dx, dy, dyaw)."""
     command = np.asarray(command, dtype=float)
     dx, dy, dyaw = command.tolist()
+    x, z = cfg.ankle_x_m, -cfg.ankle_depth_m
     end = []
     for side in (0, 1):
-        # Column by column on plain floats: nominal_foot + sign * (dx, dy, 0, dyaw) + bias.
+        # Column by column on plain floats: nominal_foot + sign * (dx, dy, 0, dyaw) + bias,
+        # bias = (0, s |dy| / 2, 0, s |dyaw| / 2).
         s = 1.0 if side == 0 else -1.0
         sign = -0.5 if side == support else 0.5
-        nominal = (cfg.ankle_x_m, s * cfg.ankle_half_width_m, -cfg.ankle_depth_m, 0.0)
-        bias = (0.0, s * abs(dy) / 2, 0.0, s * abs(dyaw) / 2)
-        step = (dx, dy, 0.0, dyaw)
-        end.append([n + sign * c + b for n, c, b in zip(nominal, step, bias)])
+        end.append(
+            [
+                x + sign * dx + 0.0,
+                s * cfg.ankle_half_width_m + sign * dy + s * abs(dy) / 2,
+                z + sign * 0.0 + 0.0,
+                0.0 + sign * dyaw + s * abs(dyaw) / 2,
+            ]
+        )
     return StepPlan(support, np.asarray(start, dtype=float).copy(), np.array(end), command)
 
 

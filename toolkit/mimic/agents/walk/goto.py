@@ -29,7 +29,7 @@ import numpy as np
 
 from mimic.agents.base import Agent, JointCommand
 from mimic.agents.walk.engine import WalkEngine
-from mimic.floats import RecentMeans, clamp, clip_symmetric
+from mimic.floats import RecentMeans, clamp
 from mimic.geometry import yaw_from_quat
 from mimic.world.base import CYCLE_S, Observation
 
@@ -130,7 +130,7 @@ class GoToPose(Agent):
         self._window = max(1, round(engine.period_s / CYCLE_S))
         self._history = RecentMeans(4, self._window)  # torso x, y, cos and sin of its yaw
         self._target = None
-        self._integral = np.zeros(2)
+        self._integral = (0.0, 0.0)
         self._approaching = False
         self._retries = 0
         self._stopping = False
@@ -139,7 +139,9 @@ class GoToPose(Agent):
     def set_target(self, x_m: float, y_m: float, heading_rad: float) -> None:
         """Target torso pose in the field frame [m, m, rad]."""
         self._target = (float(x_m), float(y_m), float(heading_rad))
-        self._integral = np.zeros(2)
+        # The target frame's axes (the ball waypoint reads them every cycle).
+        self._target_axes = (math.cos(self._target[2]), math.sin(self._target[2]))
+        self._integral = (0.0, 0.0)
         self._approaching = False
         self._retries = 0
         self._stopping = False
@@ -209,7 +211,7 @@ class GoToPose(Agent):
         if not cfg.avoid_ball or math.hypot(bx, by) > cfg.ball_near_target_m:
             return None
         # Target frame: x along the final heading, origin at the target.
-        c, s = math.cos(heading), math.sin(heading)
+        c, s = self._target_axes
         ball_fwd, ball_left = c * bx + s * by, -s * bx + c * by
         rx, ry = torso_x - x, torso_y - y
         robot_fwd, robot_left = c * rx + s * ry, -s * rx + c * ry
@@ -259,7 +261,8 @@ class GoToPose(Agent):
     def _steer(self, obs: Observation, yaw: float) -> None:
         """``yaw``: the torso's (``obs.torso_yaw_rad``) [rad]."""
         cfg = self.config
-        if self.engine.state == "standing":
+        state = self.engine.state  # the engine's until stop() or set_velocity() below
+        if state == "standing":
             self._history.clear()  # standing still: the pose is exact
         tx, ty = obs.torso_pos_m.tolist()[:2]
         bx, by = obs.ball_pos_m.tolist()[:2]
@@ -270,7 +273,7 @@ class GoToPose(Agent):
         near_ball = cfg.avoid_ball and ball_slow
         if near_ball:
             loose = cfg.near_ball_tolerance_scale
-        elif self.engine.state != "standing":
+        elif state != "standing":
             # Steer the pose the robot will stand in once halted, not the walking one. Not
             # next to the ball: there the torso must not get closer to it than the target,
             # and the halt moving it back is the safe side.
@@ -278,13 +281,13 @@ class GoToPose(Agent):
         dist = math.hypot(fx, fy)
         inside = dist < loose * cfg.tolerance_m and abs(dh) < loose * cfg.tolerance_rad
         if self._stopping:
-            if self.engine.state == "standing":
+            if state == "standing":
                 if inside:
                     self._arrived = True
                 elif self._retries < cfg.max_retries:
                     self._retries += 1
                     self._stopping = False
-                    self._integral = np.zeros(2)
+                    self._integral = (0.0, 0.0)
                 else:
                     self._arrived = True  # best effort; errors() tells how close
             return
@@ -312,10 +315,12 @@ class GoToPose(Agent):
             # heading loop on top of the walk's own heading hold rings.
             most = cfg.near_max_yaw_rate_rad_s
             yaw_rate = float(clamp(cfg.near_heading_gain_per_s * dh, -most, most))
-            if self.engine.state == "walking" and way is None and dist < cfg.integral_radius_m:
-                self._integral = clip_symmetric(
-                    self._integral + cfg.integral_gain_per_s2 * CYCLE_S * np.array([fx, fy]),
-                    cfg.max_integral_m_s,
+            if state == "walking" and way is None and dist < cfg.integral_radius_m:
+                # clip_symmetric's numbers (its limit > 0), component by component.
+                gain, most_m_s = cfg.integral_gain_per_s2 * CYCLE_S, cfg.max_integral_m_s
+                self._integral = (
+                    clamp(self._integral[0] + gain * fx, -most_m_s, most_m_s),
+                    clamp(self._integral[1] + gain * fy, -most_m_s, most_m_s),
                 )
             vx = cfg.position_gain_per_s * fx + self._integral[0]
             vy = cfg.position_gain_per_s * fy + self._integral[1]
