@@ -92,20 +92,13 @@ class RecentMeans:
     def __init__(self, width: int, window: int) -> None:
         self._columns = tuple(deque(maxlen=window) for _ in range(width))
 
-    def __len__(self) -> int:
-        return len(self._columns[0])
-
-    def add(self, *row: float) -> None:
-        """Add a row of ``width`` floats; the oldest drops out of a full window."""
+    def add(self, *row: float) -> tuple[float, ...]:
+        """Add a row of ``width`` floats (the oldest drops out of a full window); returns
+        the column means over the window."""
+        means = []
         for column, value in zip(self._columns, row):
             column.append(value)
-
-    def means(self) -> tuple[float, ...]:
-        """The column means (at least one row added)."""
-        n = len(self._columns[0])
-        means = []
-        for column in self._columns:
-            means.append(ordered_sum(column) / n)
+            means.append(ordered_sum(column) / len(column))
         return tuple(means)
 
     def clear(self) -> None:

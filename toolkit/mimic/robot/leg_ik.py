@@ -230,13 +230,24 @@ def leg_ik_floats(side: str, ankle_xyz_m, rot_rows, passes: int = 3) -> list[flo
     inner loop: the ankle-roll anchor as three floats [m], the foot rotation as three rows of
     three floats; the six angles [rad] come back as a list. Same arithmetic, same result."""
     g = _GEOMETRY[side]
-    q = _solve_passes(g, ankle_xyz_m, rot_rows, passes)
-    clipped = []
-    for a, lo, hi in zip(q, g.lower_f, g.upper_f):
-        # np.clip's numbers: ``clamp`` written out (six calls cost more than the comparisons).
-        a = lo if lo > a else a
-        clipped.append(hi if hi < a else a)
-    return clipped
+    q1, q2, q3, q4, q5, q6 = _solve_passes(g, ankle_xyz_m, rot_rows, passes)
+    (l1, l2, l3, l4, l5, l6), (u1, u2, u3, u4, u5, u6) = g.lower_f, g.upper_f
+    # np.clip's numbers: ``clamp`` written out, angle by angle (a loop, let alone six calls,
+    # costs more than the comparisons).
+    q1 = l1 if l1 > q1 else q1
+    q2 = l2 if l2 > q2 else q2
+    q3 = l3 if l3 > q3 else q3
+    q4 = l4 if l4 > q4 else q4
+    q5 = l5 if l5 > q5 else q5
+    q6 = l6 if l6 > q6 else q6
+    return [
+        u1 if u1 < q1 else q1,
+        u2 if u2 < q2 else q2,
+        u3 if u3 < q3 else q3,
+        u4 if u4 < q4 else q4,
+        u5 if u5 < q5 else q5,
+        u6 if u6 < q6 else q6,
+    ]
 
 
 def _solve_passes(g: LegGeometry, ankle_xyz_m, rot_rows, passes: int) -> list[float]:
@@ -271,9 +282,9 @@ def _solve_passes(g: LegGeometry, ankle_xyz_m, rot_rows, passes: int) -> list[fl
     # Knee: |Ry(q4) thigh + shank|^2 = l1^2 + l2^2 + 2 l1 l2 cos(beta + q4 - gamma), the 5 mm
     # knee offset appearing as the constant angles beta, gamma; the knee bends with q4 < 0.
     # (``clamp`` and ``acos_domain`` written out, here and below: the same comparisons.)
-    dist = sqrt(vx * vx + vy * vy + vz * vz)
-    dist = g.reach_min_m if g.reach_min_m > dist else dist
-    dist = g.reach_max_m if g.reach_max_m < dist else dist
+    dist, shortest, longest = sqrt(vx * vx + vy * vy + vz * vz), g.reach_min_m, g.reach_max_m
+    dist = shortest if shortest > dist else dist
+    dist = longest if longest < dist else dist
     c = (g.l_squares - dist * dist) / g.l_twice_product
     c = c if c < 1.0 else 1.0
     c = c if c > -1.0 else -1.0

@@ -236,7 +236,7 @@ class WalkEngine(Agent):
         self._peak_tilt = max(self._peak_tilt, abs(pitch - lean), abs(roll))
         # References are planned for the end of this cycle: the proportional term closes the
         # gap to them, the feed-forward term adds the plan's own speed over the cycle.
-        nominal, ref = self._reference(obs)
+        nominal, ref = self._reference()
         aim = ref if self._prev_ref is None or not cfg.track_previous else self._prev_ref
         angles = obs.joint_angles_rad.tolist()
         gain, top = cfg.tracking_gain_per_s, self._servos.max_speed_rad_s
@@ -268,7 +268,8 @@ class WalkEngine(Agent):
         self._prev_ref = ref
         self._prev_offset = offset
         self._reference_floats, self._reference_array = ref, None
-        return JointCommand.speeds(np.array(speeds))
+        # JointCommand.speeds without its np.asarray: the array is new, and float.
+        return JointCommand(speed_rad_s=np.array(speeds))
 
     @property
     def reference_rad(self) -> np.ndarray | None:
@@ -289,8 +290,7 @@ class WalkEngine(Agent):
         self._yaw_rad = yaw
         # The torso yaws back and forth with every step: the heading hold steers on the
         # heading averaged over the last gait period (two steps).
-        self._yaw_means.add(math.cos(yaw), math.sin(yaw))
-        c, s = self._yaw_means.means()
+        c, s = self._yaw_means.add(math.cos(yaw), math.sin(yaw))
         self._mean_yaw_rad = math.atan2(s, c) if cfg.smooth_heading else yaw
         if self._state != "walking":
             self._heading_rad = yaw
@@ -450,14 +450,14 @@ class WalkEngine(Agent):
         fade = self.config.odometry_fade_step_m
         return float(clamp(1.0 - abs(self._step_base[0]) / fade, 0.0, 1.0)) if fade else 1.0
 
-    def _reference(self, obs: Observation) -> tuple[list[float], list[float]]:
+    def _reference(self) -> tuple[list[float], list[float]]:
         """(nominal, reference) joint angles for the end of this cycle, N floats each [rad]."""
         cfg = self.config
         if self._state == "standing":
             self.done = True
             return self._stand_list.copy(), self._stand_list.copy()
         if self._state == "halting":
-            return self._halt_reference(obs)
+            return self._halt_reference()
         if self._state == "starting":
             self._blend_t += CYCLE_S
             a = min(1.0, self._blend_t / cfg.blend_s)
@@ -474,7 +474,7 @@ class WalkEngine(Agent):
         if self._cycle_in_step > cfg.step_cycles:
             if self._stop_requested and self._at_rest():
                 self._begin("halting")
-                return self._halt_reference(obs)
+                return self._halt_reference()
             self._start_step()
             self._cycle_in_step = 1
         feet = foot_rows(self._plan, self._fractions[self._cycle_in_step])
@@ -496,7 +496,7 @@ class WalkEngine(Agent):
             cached = self._start_pose = (plan, lean, pose)
         return cached[2]
 
-    def _halt_reference(self, obs: Observation) -> tuple[list[float], list[float]]:
+    def _halt_reference(self) -> tuple[list[float], list[float]]:
         """Halting: after the last step, hold the walk stance with both feet down for
         ``halt_settle_s`` (balance feedback on, so the last steps' rocking dies out), then
         blend into the stand pose while the feedback fades out."""

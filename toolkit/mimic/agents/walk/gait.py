@@ -194,8 +194,7 @@ class StepPlan:
     rows: tuple[list[list[float]], list[list[float]]] = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
-        start, end = self.start.tolist(), self.end.tolist()
-        self.rows = (start, [[b - a for a, b in zip(s, e)] for s, e in zip(start, end)])
+        self.rows = (self.start.tolist(), (self.end - self.start).tolist())
 
 
 def nominal_foot(cfg: WalkConfig, side: int) -> np.ndarray:

@@ -167,8 +167,7 @@ class GoToPose(Agent):
         """``errors`` of the torso pose (``x``, ``y`` [m], heading ``yaw`` [rad]) averaged
         over the last gait period: the torso sways and yaws with every step, and steering on
         that swing would feed it."""
-        self._history.add(x, y, math.cos(yaw), math.sin(yaw))
-        px, py, c, s = self._history.means()
+        px, py, c, s = self._history.add(x, y, math.cos(yaw), math.sin(yaw))
         return self._errors(px, py, math.atan2(s, c))
 
     def reset(self, obs: Observation) -> None:
