@@ -28,9 +28,12 @@ __all__ = [
 def _floats(q_wxyz):
     """A float64 array's numbers as Python floats (the same values and arithmetic, quicker
     one at a time than numpy's scalars); anything else as it is."""
-    if isinstance(q_wxyz, np.ndarray) and q_wxyz.dtype == np.float64:
+    if isinstance(q_wxyz, np.ndarray) and q_wxyz.dtype == _FLOAT64:
         return q_wxyz.tolist()
     return q_wxyz
+
+
+_FLOAT64 = np.dtype(np.float64)
 
 
 def yaw_from_quat(q_wxyz) -> float:
@@ -39,17 +42,18 @@ def yaw_from_quat(q_wxyz) -> float:
     return math.atan2(2 * (w * z + x * y), 1 - 2 * (y * y + z * z))
 
 
-def torso_pitch_roll(q_wxyz) -> tuple[float, float]:
+def torso_pitch_roll(q_wxyz, yaw_rad: float | None = None) -> tuple[float, float]:
     """Torso pitch (positive: leaning forward) and roll (positive: leaning left) [rad].
 
     Measured in the torso's heading frame, so they do not depend on where it faces.
+    ``yaw_rad``: ``yaw_from_quat(q_wxyz)`` if the caller has it already.
     """
     q = _floats(q_wxyz)
     w, x, y, z = q
     # Torso z axis in the world (third column of the rotation matrix), then in the heading
     # frame.
     zx, zy, zz = 2 * (x * z + w * y), 2 * (y * z - w * x), 1 - 2 * (x * x + y * y)
-    yaw = yaw_from_quat(q)
+    yaw = yaw_from_quat(q) if yaw_rad is None else yaw_rad
     c, s = math.cos(yaw), math.sin(yaw)
     fwd, left = c * zx + s * zy, -s * zx + c * zy
     return math.atan2(fwd, zz), math.atan2(left, zz)

@@ -22,10 +22,10 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from math import acos, asin, atan2, cos, pi, sin, sqrt
 
 import numpy as np
 
-from mimic.floats import acos_domain, clamp
 from mimic.robot.description import body_by_name
 from mimic.robot.joints import joint_index, lower_limits_rad, upper_limits_rad
 
@@ -193,66 +193,7 @@ def sole_to_ankle(side: str, sole_pos_m: np.ndarray, rot: np.ndarray) -> np.ndar
     return np.asarray(sole_pos_m) - rot @ _GEOMETRY[side].sole
 
 
-def _solve(g: LegGeometry, ap, rot) -> list[float]:
-    """Angles putting the ankle-pitch anchor at ``ap`` with foot rotation ``rot``.
-
-    Plain floats throughout (rot as nested lists or tuples): this runs twice per leg every
-    cycle.
-    """
-    (r00, r01, r02), (r10, r11, r12), (r20, r21, r22) = rot
-    hx, hy, hz = g.hip_f
-    vx, vy, vz = ap[0] - hx, ap[1] - hy, ap[2] - hz
-    # The leg seen from the foot, r = rot^T v: its y/z ratio is the ankle roll, since
-    # r = Rx(-q6) b with b in the foot's sagittal plane, pointing down (b_z < 0).
-    rx = r00 * vx + r10 * vy + r20 * vz
-    ry = r01 * vx + r11 * vy + r21 * vz
-    rz = r02 * vx + r12 * vy + r22 * vz
-    q6 = math.atan2(-ry, -rz)
-    # Knee: |Ry(q4) thigh + shank|^2 = l1^2 + l2^2 + 2 l1 l2 cos(beta + q4 - gamma), the 5 mm
-    # knee offset appearing as the constant angles beta, gamma; the knee bends with q4 < 0.
-    dist = math.sqrt(vx * vx + vy * vy + vz * vz)
-    dist = clamp(dist, g.reach_min_m, g.reach_max_m)
-    c = (g.l_squares - dist * dist) / g.l_twice_product
-    q4 = _wrap(g.knee_offset_rad - (math.pi - math.acos(acos_domain(c))))
-    # In the foot's sagittal plane: p = Rx(q6) r = Ry(q5) m with m = Ry(q4) thigh + shank.
-    c6, s6 = math.cos(q6), math.sin(q6)
-    px, pz = rx, s6 * ry + c6 * rz
-    tx, _, tz = g.thigh_f
-    sx, _, sz = g.shank_f
-    c4, s4 = math.cos(q4), math.sin(q4)
-    mx = c4 * tx + s4 * tz + sx
-    mz = -s4 * tx + c4 * tz + sz
-    q5 = _wrap(math.atan2(px, pz) - math.atan2(mx, mz))
-    # Hip: M = Rx(-sigma) rot Rx(-q6) Ry(q4 + q5) = Rz(psi) Rx(phi) Ry(-q3).
-    # Columns of B = Rx(-q6) Ry(a): needed rows of rot @ B, then Rx(-sigma).
-    a = q4 + q5
-    ca, sa = math.cos(a), math.sin(a)
-    b0x, b0y, b0z = ca, -s6 * sa, -c6 * sa  # column 0 of Rx(-q6) Ry(a)
-    b1x, b1y, b1z = 0.0, c6, -s6  # column 1
-    b2x, b2y, b2z = sa, s6 * ca, c6 * ca  # column 2
-    # Row i of rot dotted with column j of B (written out: this is the solver's inner loop).
-    rot0_b1 = r00 * b1x + r01 * b1y + r02 * b1z
-    rot1_b0 = r10 * b0x + r11 * b0y + r12 * b0z
-    rot1_b1 = r10 * b1x + r11 * b1y + r12 * b1z
-    rot1_b2 = r10 * b2x + r11 * b2y + r12 * b2z
-    rot2_b0 = r20 * b0x + r21 * b0y + r22 * b0z
-    rot2_b1 = r20 * b1x + r21 * b1y + r22 * b1z
-    rot2_b2 = r20 * b2x + r21 * b2y + r22 * b2z
-    cs, ss = g.cos_sigma, g.sin_sigma
-    # Rows of Rx(-sigma): (1,0,0), (0, cs, ss), (0, -ss, cs).
-    m01 = rot0_b1
-    m11 = cs * rot1_b1 + ss * rot2_b1
-    m20 = -ss * rot1_b0 + cs * rot2_b0
-    m21 = -ss * rot1_b1 + cs * rot2_b1
-    m22 = -ss * rot1_b2 + cs * rot2_b2
-    phi = math.asin(acos_domain(m21))
-    theta = math.atan2(-m20, m22)
-    psi = math.atan2(-m01, m11)
-    return [g.hyp_sign * psi, phi + g.sigma_rad, -theta, q4, q5, q6]
-
-
-def _wrap(a: float) -> float:
-    return (a + math.pi) % (2 * math.pi) - math.pi
+_TWO_PI = 2 * pi
 
 
 def leg_ik(
@@ -289,28 +230,102 @@ def leg_ik_floats(side: str, ankle_xyz_m, rot_rows, passes: int = 3) -> list[flo
     inner loop: the ankle-roll anchor as three floats [m], the foot rotation as three rows of
     three floats; the six angles [rad] come back as a list. Same arithmetic, same result."""
     g = _GEOMETRY[side]
-    q = _solve_passes(g, ankle_xyz_m, rot_rows, passes)
-    return [clamp(a, lo, hi) for a, lo, hi in zip(q, g.lower_f, g.upper_f)]  # np.clip's
+    q1, q2, q3, q4, q5, q6 = _solve_passes(g, ankle_xyz_m, rot_rows, passes)
+    (l1, l2, l3, l4, l5, l6), (u1, u2, u3, u4, u5, u6) = g.lower_f, g.upper_f
+    # np.clip's numbers: ``clamp`` written out, angle by angle (a loop, let alone six calls,
+    # costs more than the comparisons).
+    q1 = l1 if l1 > q1 else q1
+    q2 = l2 if l2 > q2 else q2
+    q3 = l3 if l3 > q3 else q3
+    q4 = l4 if l4 > q4 else q4
+    q5 = l5 if l5 > q5 else q5
+    q6 = l6 if l6 > q6 else q6
+    return [
+        u1 if u1 < q1 else q1,
+        u2 if u2 < q2 else q2,
+        u3 if u3 < q3 else q3,
+        u4 if u4 < q4 else q4,
+        u5 if u5 < q5 else q5,
+        u6 if u6 < q6 else q6,
+    ]
 
 
 def _solve_passes(g: LegGeometry, ankle_xyz_m, rot_rows, passes: int) -> list[float]:
     """The unclipped angles after ``passes`` solves, each with the ankle-pitch anchor placed
-    by the last pass's roll angle."""
+    by the last pass's roll angle.
+
+    Plain floats throughout (``rot_rows`` as nested lists or tuples): this runs for both legs
+    every cycle. A pass before the last one only places the next pass's anchor, for which its
+    roll angle is all that is needed: only the last pass solves the other five angles (the
+    same numbers as solving each pass in full).
+    """
+    if passes < 1:
+        return [0.0] * 6
     tx, ty, tz = ankle_xyz_m
     (r00, r01, r02), (r10, r11, r12), (r20, r21, r22) = rot_rows
+    hx, hy, hz = g.hip_f
     ax, az = g.ankle_f[0], g.ankle_f[2]  # ankle offset: (0, 0, -5 mm) at the zero pose
-    q = [0.0] * 6
+    q6 = 0.0
     for _ in range(passes):
-        # Ankle-pitch anchor = ankle-roll anchor - rot Rx(-q6) (ankle offset).
-        c6, s6 = math.cos(q[5]), math.sin(q[5])
+        # Ankle-pitch anchor = ankle-roll anchor - rot Rx(-q6) (ankle offset), less the hip.
+        c6, s6 = cos(q6), sin(q6)
         ox, oy, oz = ax, s6 * az, c6 * az
-        ap = (
-            tx - (r00 * ox + r01 * oy + r02 * oz),
-            ty - (r10 * ox + r11 * oy + r12 * oz),
-            tz - (r20 * ox + r21 * oy + r22 * oz),
-        )
-        q = _solve(g, ap, rot_rows)
-    return q
+        vx = tx - (r00 * ox + r01 * oy + r02 * oz) - hx
+        vy = ty - (r10 * ox + r11 * oy + r12 * oz) - hy
+        vz = tz - (r20 * ox + r21 * oy + r22 * oz) - hz
+        # The leg seen from the foot, r = rot^T v: its y/z ratio is the ankle roll, since
+        # r = Rx(-q6) b with b in the foot's sagittal plane, pointing down (b_z < 0).
+        ry = r01 * vx + r11 * vy + r21 * vz
+        rz = r02 * vx + r12 * vy + r22 * vz
+        q6 = atan2(-ry, -rz)
+    rx = r00 * vx + r10 * vy + r20 * vz
+    # Knee: |Ry(q4) thigh + shank|^2 = l1^2 + l2^2 + 2 l1 l2 cos(beta + q4 - gamma), the 5 mm
+    # knee offset appearing as the constant angles beta, gamma; the knee bends with q4 < 0.
+    # (``clamp`` and ``acos_domain`` written out, here and below: the same comparisons.)
+    dist, shortest, longest = sqrt(vx * vx + vy * vy + vz * vz), g.reach_min_m, g.reach_max_m
+    dist = shortest if shortest > dist else dist
+    dist = longest if longest < dist else dist
+    c = (g.l_squares - dist * dist) / g.l_twice_product
+    c = c if c < 1.0 else 1.0
+    c = c if c > -1.0 else -1.0
+    q4 = (g.knee_offset_rad - (pi - acos(c)) + pi) % _TWO_PI - pi  # wrapped
+    # In the foot's sagittal plane: p = Rx(q6) r = Ry(q5) m with m = Ry(q4) thigh + shank.
+    c6, s6 = cos(q6), sin(q6)
+    px, pz = rx, s6 * ry + c6 * rz
+    tx, _, tz = g.thigh_f
+    sx, _, sz = g.shank_f
+    c4, s4 = cos(q4), sin(q4)
+    mx = c4 * tx + s4 * tz + sx
+    mz = -s4 * tx + c4 * tz + sz
+    q5 = (atan2(px, pz) - atan2(mx, mz) + pi) % _TWO_PI - pi  # wrapped
+    # Hip: M = Rx(-sigma) rot Rx(-q6) Ry(q4 + q5) = Rz(psi) Rx(phi) Ry(-q3).
+    # Columns of B = Rx(-q6) Ry(a): needed rows of rot @ B, then Rx(-sigma).
+    a = q4 + q5
+    ca, sa = cos(a), sin(a)
+    b0x, b0y, b0z = ca, -s6 * sa, -c6 * sa  # column 0 of Rx(-q6) Ry(a)
+    b1x, b1y, b1z = 0.0, c6, -s6  # column 1
+    b2x, b2y, b2z = sa, s6 * ca, c6 * ca  # column 2
+    # Row i of rot dotted with column j of B (written out: this is the solver's inner loop).
+    rot0_b1 = r00 * b1x + r01 * b1y + r02 * b1z
+    rot1_b0 = r10 * b0x + r11 * b0y + r12 * b0z
+    rot1_b1 = r10 * b1x + r11 * b1y + r12 * b1z
+    rot1_b2 = r10 * b2x + r11 * b2y + r12 * b2z
+    rot2_b0 = r20 * b0x + r21 * b0y + r22 * b0z
+    rot2_b1 = r20 * b1x + r21 * b1y + r22 * b1z
+    rot2_b2 = r20 * b2x + r21 * b2y + r22 * b2z
+    cs, ss = g.cos_sigma, g.sin_sigma
+    # Rows of Rx(-sigma): (1,0,0), (0, cs, ss), (0, -ss, cs).
+    m01 = rot0_b1
+    m11 = cs * rot1_b1 + ss * rot2_b1
+    m20 = -ss * rot1_b0 + cs * rot2_b0
+    m21 = -ss * rot1_b1 + cs * rot2_b1
+    m22 = -ss * rot1_b2 + cs * rot2_b2
+    m21 = m21 if m21 < 1.0 else 1.0
+    m21 = m21 if m21 > -1.0 else -1.0
+    phi = asin(m21)
+    theta = atan2(-m20, m22)
+    psi = atan2(-m01, m11)
+    return [g.hyp_sign * psi, phi + g.sigma_rad, -theta, q4, q5, q6]
 
 
 _EYE = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]

@@ -20,7 +20,7 @@ support foot along the pendulum's cosh profile.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from functools import cached_property
 
 import numpy as np
@@ -29,7 +29,16 @@ from mimic.agents.walk.lipm import lateral_fraction, pendulum_rate_per_s, sagitt
 from mimic.floats import clamp
 from mimic.world.base import CYCLE_S
 
-__all__ = ["WalkConfig", "StepPlan", "nominal_foot", "plan_step", "feet_at", "foot_rows_at"]
+__all__ = [
+    "WalkConfig",
+    "StepPlan",
+    "nominal_foot",
+    "plan_step",
+    "feet_at",
+    "foot_rows_at",
+    "foot_fractions",
+    "foot_rows",
+]
 
 
 @dataclass(frozen=True)
@@ -179,6 +188,13 @@ class StepPlan:
     start: np.ndarray  # (2, 4)
     end: np.ndarray  # (2, 4)
     command: np.ndarray  # (3,) dx, dy, dyaw per step
+    # ``start`` and ``end - start`` as plain floats, two lists (left, right) of four each:
+    # worked out once per step for ``foot_rows``, every cycle (a plan is not changed once
+    # made).
+    rows: tuple[list[list[float]], list[list[float]]] = field(init=False, repr=False, compare=False)
+
+    def __post_init__(self) -> None:
+        self.rows = (self.start.tolist(), (self.end - self.start).tolist())
 
 
 def nominal_foot(cfg: WalkConfig, side: int) -> np.ndarray:
@@ -189,14 +205,24 @@ def nominal_foot(cfg: WalkConfig, side: int) -> np.ndarray:
 
 def plan_step(cfg: WalkConfig, support: int, start: np.ndarray, command: np.ndarray) -> StepPlan:
     """The step that starts from feet ``start`` (2, 4) with step command (dx, dy, dyaw)."""
-    end = np.empty((2, 4))
-    dx, dy, dyaw = command
+    command = np.asarray(command, dtype=float)
+    dx, dy, dyaw = command.tolist()
+    x, z = cfg.ankle_x_m, -cfg.ankle_depth_m
+    end = []
     for side in (0, 1):
+        # Column by column on plain floats: nominal_foot + sign * (dx, dy, 0, dyaw) + bias,
+        # bias = (0, s |dy| / 2, 0, s |dyaw| / 2).
         s = 1.0 if side == 0 else -1.0
         sign = -0.5 if side == support else 0.5
-        bias = np.array([0.0, s * abs(dy) / 2, 0.0, s * abs(dyaw) / 2])
-        end[side] = nominal_foot(cfg, side) + sign * np.array([dx, dy, 0.0, dyaw]) + bias
-    return StepPlan(support, np.asarray(start, dtype=float).copy(), end, np.asarray(command))
+        end.append(
+            [
+                x + sign * dx + 0.0,
+                s * cfg.ankle_half_width_m + sign * dy + s * abs(dy) / 2,
+                z + sign * 0.0 + 0.0,
+                0.0 + sign * dyaw + s * abs(dyaw) / 2,
+            ]
+        )
+    return StepPlan(support, np.asarray(start, dtype=float).copy(), np.array(end), command)
 
 
 def feet_at(cfg: WalkConfig, plan: StepPlan, phase: float, sway_scale: float = 1.0) -> np.ndarray:
@@ -209,6 +235,15 @@ def foot_rows_at(
 ) -> list[list[float]]:
     """``feet_at`` as two lists (left, right) of four floats: the walk engine's form, every
     cycle, so worked out on plain floats."""
+    return foot_rows(plan, foot_fractions(cfg, phase, sway_scale))
+
+
+def foot_fractions(
+    cfg: WalkConfig, phase: float, sway_scale: float = 1.0
+) -> tuple[float, float, float, float]:
+    """What of a step depends on its phase only: the support and the swing foot's shares of
+    the way from start to end, the swing foot's lift [m] and the torso's sway toward the
+    support foot [m]. The walk engine works them out once for each cycle of a step."""
     k = pendulum_rate_per_s(cfg.com_height_m)
     phase = clamp(phase, 0.0, 1.0)
     lipm = sagittal_fraction(phase, k, cfg.step_time_s) + 0.5
@@ -216,21 +251,28 @@ def foot_rows_at(
     lift = cfg.lift_start_fraction
     swing = min(1.0, max(0.0, phase - lift) / max(cfg.swing_fraction - lift, 1e-6))
     swing_f = 0.5 * (1 - math.cos(math.pi * swing))
-    # Each foot moves from its start toward its end.
-    sup, sw = plan.support, 1 - plan.support
-    start, end = plan.start.tolist(), plan.end.tolist()
-    feet = [[], []]
-    feet[sup] = [a + support_f * (b - a) for a, b in zip(start[sup], end[sup])]
-    feet[sw] = [a + swing_f * (b - a) for a, b in zip(start[sw], end[sw])]
-    feet[sw][2] += cfg.step_height_m * 0.5 * (1 - math.cos(2 * math.pi * swing))
-    # Torso sways toward the support foot: both feet shift the other way in the walk frame.
-    toward = 1.0 if sup == 0 else -1.0
-    sway = (
+    lift_m = cfg.step_height_m * 0.5 * (1 - math.cos(2 * math.pi * swing))
+    sway_m = (
         sway_scale
         * cfg.sway_gain
         * cfg.ankle_half_width_m
         * lateral_fraction(phase, k, cfg.step_time_s)
     )
-    for foot in feet:
-        foot[1] -= toward * sway
+    return support_f, swing_f, lift_m, sway_m
+
+
+def foot_rows(plan: StepPlan, fractions: tuple[float, float, float, float]) -> list[list[float]]:
+    """The feet (two lists, left and right, of x, y, z, yaw) of ``plan`` at the phase of
+    ``fractions`` (``foot_fractions``)."""
+    support_f, swing_f, lift_m, sway_m = fractions
+    sup = plan.support
+    start, way = plan.rows
+    # Torso sways toward the support foot: both feet shift the other way in the walk frame.
+    shift = (1.0 if sup == 0 else -1.0) * sway_m
+    # Each foot moves from its start toward its end (written out: this runs every cycle).
+    feet = [None, None]
+    for side, f in ((sup, support_f), (1 - sup, swing_f)):
+        (x, y, z, yaw), (dx, dy, dz, dyaw) = start[side], way[side]
+        feet[side] = [x + f * dx, y + f * dy - shift, z + f * dz, yaw + f * dyaw]
+    feet[1 - sup][2] += lift_m
     return feet

@@ -29,7 +29,8 @@ import numpy as np
 
 from mimic.agents.base import Agent, JointCommand
 from mimic.agents.walk.engine import WalkEngine
-from mimic.floats import clamp, clip_symmetric, mean_rows
+from mimic.floats import RecentMeans, clamp
+from mimic.geometry import yaw_from_quat
 from mimic.world.base import CYCLE_S, Observation
 
 __all__ = ["GoToConfig", "GoToPose", "pose_behind_ball", "wrap_angle"]
@@ -37,7 +38,10 @@ __all__ = ["GoToConfig", "GoToPose", "pose_behind_ball", "wrap_angle"]
 
 def wrap_angle(a: float) -> float:
     """Angle wrapped to [-pi, pi) [rad]."""
-    return (a + math.pi) % (2 * math.pi) - math.pi
+    return (a + _PI) % _TWO_PI - _PI
+
+
+_PI, _TWO_PI = math.pi, 2 * math.pi
 
 
 def pose_behind_ball(ball_xy, target_xy, ball_offset_m) -> tuple[float, float, float]:
@@ -122,9 +126,11 @@ class GoToPose(Agent):
         self.engine = engine
         self.config = config
         self.period_s = engine.period_s
+        # Cycles in the steering's averaging window (a gait period).
+        self._window = max(1, round(engine.period_s / CYCLE_S))
+        self._history = RecentMeans(4, self._window)  # torso x, y, cos and sin of its yaw
         self._target = None
-        self._history: list[tuple[float, float, float, float]] = []
-        self._integral = np.zeros(2)
+        self._integral = (0.0, 0.0)
         self._approaching = False
         self._retries = 0
         self._stopping = False
@@ -133,7 +139,9 @@ class GoToPose(Agent):
     def set_target(self, x_m: float, y_m: float, heading_rad: float) -> None:
         """Target torso pose in the field frame [m, m, rad]."""
         self._target = (float(x_m), float(y_m), float(heading_rad))
-        self._integral = np.zeros(2)
+        # The target frame's axes (the ball waypoint reads them every cycle).
+        self._target_axes = (math.cos(self._target[2]), math.sin(self._target[2]))
+        self._integral = (0.0, 0.0)
         self._approaching = False
         self._retries = 0
         self._stopping = False
@@ -155,45 +163,54 @@ class GoToPose(Agent):
         c, s = math.cos(yaw), math.sin(yaw)
         return c * dx + s * dy, -s * dx + c * dy, wrap_angle(heading - yaw)
 
-    def _smoothed_errors(self, obs: Observation, yaw: float) -> tuple[float, float, float]:
-        """``errors`` of the torso pose (heading ``yaw`` [rad]) averaged over the last gait
-        period: the torso sways and yaws with every step, and steering on that swing would
-        feed it."""
-        x, y = obs.torso_pos_m[:2].tolist()
-        self._history.append((x, y, math.cos(yaw), math.sin(yaw)))
-        n = max(1, round(self.engine.period_s / CYCLE_S))
-        del self._history[:-n]
-        px, py, c, s = mean_rows(self._history)
+    def _smoothed_errors(self, x: float, y: float, yaw: float) -> tuple[float, float, float]:
+        """``errors`` of the torso pose (``x``, ``y`` [m], heading ``yaw`` [rad]) averaged
+        over the last gait period: the torso sways and yaws with every step, and steering on
+        that swing would feed it."""
+        px, py, c, s = self._history.add(x, y, math.cos(yaw), math.sin(yaw))
         return self._errors(px, py, math.atan2(s, c))
 
     def reset(self, obs: Observation) -> None:
         self.engine.reset(obs)
-        self._history = []
+        self._history.clear()
         self._stopping = False
         self._arrived = False
         self.done = False
 
     def act(self, obs: Observation) -> JointCommand:
+        # obs.torso_yaw_rad, read once, for the steering and the engine.
+        yaw = yaw_from_quat(obs.torso_quat_wxyz.tolist())
         if self._target is not None:
-            self._steer(obs)
-        speeds = self.engine.act(obs)
-        self.reference_rad = self.engine.reference_rad
+            self._steer(obs, yaw)
+        speeds = self.engine.act(obs, yaw)
         self.done = self._arrived
         return speeds
 
-    def _ball_waypoint(self, obs: Observation, yaw: float) -> tuple[float, float] | None:
-        """Waypoint (forward, left) [m] in the robot frame (torso heading ``yaw`` [rad]) that
-        leads around the ball to a staging point behind it, or None once the robot is in the
-        approach lane (or the ball is not near the target)."""
+    @property
+    def reference_rad(self) -> np.ndarray | None:
+        """The engine's references (``WalkEngine.reference_rad``): this agent only steers."""
+        return self.engine.reference_rad
+
+    @reference_rad.setter
+    def reference_rad(self, value: np.ndarray | None) -> None:
+        # Only Agent.__init__ sets it (to None): the references are the engine's.
+        if value is not None:
+            raise AttributeError("GoToPose's references are its engine's")
+
+    def _ball_waypoint(self, ball_xy, torso_xy, yaw: float) -> tuple[float, float] | None:
+        """Waypoint (forward, left) [m] in the robot frame (torso at ``torso_xy``, heading
+        ``yaw`` [rad]; the ball at ``ball_xy``, field frame [m]) that leads around the ball to
+        a staging point behind it, or None once the robot is in the approach lane (or the
+        ball is not near the target)."""
         cfg = self.config
         x, y, heading = self._target
-        ball_x, ball_y = obs.ball_pos_m[:2].tolist()
-        torso_x, torso_y = obs.torso_pos_m[:2].tolist()
+        ball_x, ball_y = ball_xy
+        torso_x, torso_y = torso_xy
         bx, by = ball_x - x, ball_y - y
         if not cfg.avoid_ball or math.hypot(bx, by) > cfg.ball_near_target_m:
             return None
         # Target frame: x along the final heading, origin at the target.
-        c, s = math.cos(heading), math.sin(heading)
+        c, s = self._target_axes
         ball_fwd, ball_left = c * bx + s * by, -s * bx + c * by
         rx, ry = torso_x - x, torso_y - y
         robot_fwd, robot_left = c * rx + s * ry, -s * rx + c * ry
@@ -202,28 +219,29 @@ class GoToPose(Agent):
             self._approaching = abs(robot_left) < 2 * lane and robot_fwd < ball_fwd - 0.1
         else:
             aligned = abs(wrap_angle(heading - yaw)) < cfg.approach_heading_rad
-            self._approaching = (abs(robot_left) < lane and robot_fwd < -lane and aligned) or float(
-                np.hypot(robot_fwd, robot_left)
-            ) < cfg.tolerance_m
+            self._approaching = (
+                abs(robot_left) < lane and robot_fwd < -lane and aligned
+            ) or _hypot_below(robot_fwd, robot_left, cfg.tolerance_m)
         if self._approaching:
             return None
         stage_fwd, stage_left = -cfg.ball_clearance_m, 0.0
         way_fwd, way_left = stage_fwd, stage_left
         away_fwd, away_left = robot_fwd - ball_fwd, robot_left - ball_left
-        reach = float(np.hypot(away_fwd, away_left))
-        if reach < cfg.ball_inner_m:
+        if _hypot_below(away_fwd, away_left, cfg.ball_inner_m):
             # Too close to the ball anywhere but the lane: back straight away from it first.
+            reach = float(np.hypot(away_fwd, away_left))
             back_m = cfg.ball_clearance_m + 0.05
             way_fwd = ball_fwd + away_fwd / max(reach, 1e-9) * back_m
             way_left = ball_left + away_left / max(reach, 1e-9) * back_m
-        elif (
-            _segment_distance(
-                (ball_fwd, ball_left), (robot_fwd, robot_left), (stage_fwd, stage_left)
-            )
-            < cfg.ball_clearance_m
+        elif _segment_distance_below(
+            (ball_fwd, ball_left),
+            (robot_fwd, robot_left),
+            (stage_fwd, stage_left),
+            cfg.ball_clearance_m,
         ):
             # The way to the staging point passes the ball: orbit it at the clearance, one
             # short chord at a time, on the side that reaches the staging point sooner.
+            reach = float(np.hypot(away_fwd, away_left))
             here = math.atan2(away_left, away_fwd)
             there = math.atan2(stage_left - ball_left, stage_fwd - ball_fwd)
             turn = wrap_angle(there - here)
@@ -239,20 +257,22 @@ class GoToPose(Agent):
         cy, sy = math.cos(yaw), math.sin(yaw)
         return cy * dx + sy * dy, -sy * dx + cy * dy
 
-    def _steer(self, obs: Observation) -> None:
+    def _steer(self, obs: Observation, yaw: float) -> None:
+        """``yaw``: the torso's (``obs.torso_yaw_rad``) [rad]."""
         cfg = self.config
-        yaw = obs.torso_yaw_rad
-        if self.engine.state == "standing":
-            self._history = []  # standing still: the pose is exact
-        fx, fy, dh = self._smoothed_errors(obs, yaw)
+        state = self.engine.state  # the engine's until stop() or set_velocity() below
+        if state == "standing":
+            self._history.clear()  # standing still: the pose is exact
+        tx, ty = obs.torso_pos_m.tolist()[:2]
+        bx, by = obs.ball_pos_m.tolist()[:2]
+        fx, fy, dh = self._smoothed_errors(tx, ty, yaw)
         # Next to the ball every extra correction risks touching it: settle for a little less.
         loose = 1.0
-        (bx, by), (tx, ty) = obs.ball_pos_m[:2].tolist(), obs.torso_pos_m[:2].tolist()
-        ball_m = float(np.hypot(bx - tx, by - ty))
-        near_ball = cfg.avoid_ball and ball_m < cfg.ball_slow_radius_m
+        ball_slow = _hypot_below(bx - tx, by - ty, cfg.ball_slow_radius_m)
+        near_ball = cfg.avoid_ball and ball_slow
         if near_ball:
             loose = cfg.near_ball_tolerance_scale
-        elif self.engine.state != "standing":
+        elif state != "standing":
             # Steer the pose the robot will stand in once halted, not the walking one. Not
             # next to the ball: there the torso must not get closer to it than the target,
             # and the halt moving it back is the safe side.
@@ -260,13 +280,13 @@ class GoToPose(Agent):
         dist = math.hypot(fx, fy)
         inside = dist < loose * cfg.tolerance_m and abs(dh) < loose * cfg.tolerance_rad
         if self._stopping:
-            if self.engine.state == "standing":
+            if state == "standing":
                 if inside:
                     self._arrived = True
                 elif self._retries < cfg.max_retries:
                     self._retries += 1
                     self._stopping = False
-                    self._integral = np.zeros(2)
+                    self._integral = (0.0, 0.0)
                 else:
                     self._arrived = True  # best effort; errors() tells how close
             return
@@ -277,7 +297,7 @@ class GoToPose(Agent):
             self.engine.stop()
             self._stopping = True
             return
-        way = self._ball_waypoint(obs, yaw)
+        way = self._ball_waypoint((bx, by), (tx, ty), yaw)
         if way is not None:
             fx, fy = way  # head for the waypoint; on arrival there, the next one takes over
             dist = math.hypot(fx, fy)
@@ -294,10 +314,12 @@ class GoToPose(Agent):
             # heading loop on top of the walk's own heading hold rings.
             most = cfg.near_max_yaw_rate_rad_s
             yaw_rate = float(clamp(cfg.near_heading_gain_per_s * dh, -most, most))
-            if self.engine.state == "walking" and way is None and dist < cfg.integral_radius_m:
-                self._integral = clip_symmetric(
-                    self._integral + cfg.integral_gain_per_s2 * CYCLE_S * np.array([fx, fy]),
-                    cfg.max_integral_m_s,
+            if state == "walking" and way is None and dist < cfg.integral_radius_m:
+                # clip_symmetric's numbers (its limit > 0), component by component.
+                gain, most_m_s = cfg.integral_gain_per_s2 * CYCLE_S, cfg.max_integral_m_s
+                self._integral = (
+                    clamp(self._integral[0] + gain * fx, -most_m_s, most_m_s),
+                    clamp(self._integral[1] + gain * fy, -most_m_s, most_m_s),
                 )
             vx = cfg.position_gain_per_s * fx + self._integral[0]
             vy = cfg.position_gain_per_s * fy + self._integral[1]
@@ -315,7 +337,7 @@ class GoToPose(Agent):
             vx, vy = vx * scale, vy * scale
         if cfg.avoid_ball and way is None:
             # Short steps near the ball: a long stride's swing foot would reach it.
-            if ball_m < cfg.ball_slow_radius_m:
+            if ball_slow:
                 scale = min(1.0, cfg.ball_approach_speed_m_s / max(math.hypot(vx, vy), 1e-9))
                 vx, vy = vx * scale, vy * scale
                 if cfg.ball_line_up_first and vx > 0.0:
@@ -325,6 +347,46 @@ class GoToPose(Agent):
                     vx *= float(clamp(2.0 - off, 0.0, 1.0))
         most = cfg.max_yaw_rate_rad_s
         self.engine.set_velocity(vx, vy, float(clamp(yaw_rate, -most, most)))
+
+
+# The steering compares distances from np.hypot with bounds, and that is all it uses them for
+# (but on rare branches). The squared distance answers such a comparison unless it lies
+# within a relative _BAND of the squared bound: np.hypot's result (within an ulp of the
+# exact distance) cannot fall on the other side of the bound then; inside the band np.hypot
+# decides. The same answers, without np.hypot's per-call cost on every cycle.
+_BAND = 1e-9
+
+
+def _hypot_below(dx: float, dy: float, bound: float) -> bool:
+    """``np.hypot(dx, dy) < bound``: the same answer, np.hypot called only near the bound."""
+    below = _squared_below(dx * dx + dy * dy, bound)
+    return float(np.hypot(dx, dy)) < bound if below is None else below
+
+
+def _squared_below(squared: float, bound: float) -> bool | None:
+    """Whether the distance whose square (on plain floats) is ``squared`` is below ``bound``;
+    None within the band around the bound (and for a bound too small or too large to square
+    safely), where the exact distance must decide."""
+    if 1e-100 < bound < 1e100:
+        bound2 = bound * bound
+        if squared < bound2 * (1 - _BAND):
+            return True
+        if squared > bound2 * (1 + _BAND):
+            return False
+    return None
+
+
+def _segment_distance_below(point, a, b, bound: float) -> bool:
+    """``_segment_distance(point, a, b) < bound``, the same answer: the distance worked out
+    on plain floats (it differs from numpy's by roundings only, far inside the band), numpy's
+    deciding near the bound."""
+    (px, py), (ax, ay), (bx, by) = point, a, b
+    abx, aby = bx - ax, by - ay
+    along = ((px - ax) * abx + (py - ay) * aby) / max(abx * abx + aby * aby, 1e-12)
+    t = clamp(along, 0.0, 1.0)
+    dx, dy = ax + t * abx - px, ay + t * aby - py
+    below = _squared_below(dx * dx + dy * dy, bound)
+    return _segment_distance(point, a, b) < bound if below is None else below
 
 
 def _segment_distance(point, a, b) -> float:
