@@ -34,6 +34,7 @@ __all__ = [
     "detect_period_s",
     "as_cyclic",
     "drop_non_repeating",
+    "average_jittery_joints",
     "symmetric_cycle",
     "phase_bins",
     "bin_count",
@@ -406,21 +407,9 @@ def drop_non_repeating(
     """
     if ds.period_s is None or ds.n_samples < 3:
         return ds
-    t, q = ds.time_s, ds.targets[:, :-1]
-    k = phase_bins(t, ds.period_s)
-    # Per sample and joint, signed (the jitter is read from its changes); NaN: its bin judges
-    # nothing.
-    deviation = np.full(q.shape, np.nan)
-    for b in range(bin_count(t, ds.period_s)):
-        at = k == b
-        if at.sum() >= 3:
-            deviation[at] = q[at] - np.median(q[at], axis=0)
-    judged = ~np.isnan(deviation[:, 0])
-    limit = np.full(q.shape[1], float(limit_rad))
-    if judged.sum() >= 4:
-        bend = np.diff(deviation[judged], n=2, axis=0)  # consecutive judged samples
-        jitter = _MAD_TO_SD * np.median(np.abs(bend), axis=0) / math.sqrt(6)
-        limit = np.maximum(limit, jitters * jitter)
+    t = ds.time_s
+    deviation, judged = _cycle_deviation(ds)
+    limit = np.maximum(float(limit_rad), jitters * _jitter_rad(deviation, judged))
     keep = ~judged | np.all(np.abs(deviation) <= limit, axis=1)
     dropped = int((~keep).sum())
     if dropped == 0:
@@ -438,6 +427,63 @@ def drop_non_repeating(
         targets=ds.targets[keep],
         metadata={**ds.metadata, "non_repeating": dropped},
     )
+
+
+def _cycle_deviation(ds: Dataset) -> tuple[np.ndarray, np.ndarray]:
+    """(T, N) each sample's targets less the median of the samples at its phase (signed; NaN
+    where the phase bin holds fewer than 3 samples: it judges nothing), and (T,) whether the
+    sample was judged."""
+    t, q = ds.time_s, ds.targets[:, :-1]
+    k = phase_bins(t, ds.period_s)
+    deviation = np.full(q.shape, np.nan)
+    for b in range(bin_count(t, ds.period_s)):
+        at = k == b
+        if at.sum() >= 3:
+            deviation[at] = q[at] - np.median(q[at], axis=0)
+    return deviation, ~np.isnan(deviation[:, 0])
+
+
+def _jitter_rad(deviation: np.ndarray, judged: np.ndarray) -> np.ndarray:
+    """(N,) each joint's jitter about the cycle (``NON_REPEATING_JITTERS``); zeros when fewer
+    than 4 samples were judged."""
+    if judged.sum() < 4:
+        return np.zeros(deviation.shape[1])
+    bend = np.diff(deviation[judged], n=2, axis=0)  # consecutive judged samples
+    return _MAD_TO_SD * np.median(np.abs(bend), axis=0) / math.sqrt(6)
+
+
+def average_jittery_joints(
+    ds: Dataset, limit_rad: float = NON_REPEATING_RAD, jitters: float = NON_REPEATING_JITTERS
+) -> Dataset:
+    """A cyclic dataset whose jittery joints' targets are their cycle's mean: for each joint
+    whose jitter (``NON_REPEATING_JITTERS``) times ``jitters`` exceeds ``limit_rad``, every
+    sample's target becomes the mean of the samples at its phase (bins at the sampling step,
+    linear between their centres, around the cycle). Their names are in
+    ``metadata["jittery_joints"]``; a dataset without such joints is returned as it is.
+
+    Why: a learned policy's joints jitter from sample to sample, and the compensated targets
+    (``learn.pd_compensate`` differentiates the angles twice) jitter more. A network fitted to
+    that cloud learns wiggles of its own: the copy of the T1 jittery walk swung its head's
+    references at up to 58 rad/s, where the original's mean head hardly moves.
+    """
+    if ds.period_s is None or ds.n_samples < 4:
+        return ds
+    deviation, judged = _cycle_deviation(ds)
+    jittery = np.flatnonzero(jitters * _jitter_rad(deviation, judged) > limit_rad)
+    if len(jittery) == 0:
+        return ds
+    t = ds.time_s
+    bins = bin_count(t, ds.period_s)
+    k = phase_bins(t, ds.period_s)
+    filled = np.array([np.any(k == b) for b in range(bins)])
+    centres = np.arange(bins)[filled] / bins
+    phase = t / ds.period_s % 1.0
+    targets = ds.targets.copy()
+    for j in jittery:
+        means = np.array([targets[k == b, j].mean() for b in range(bins) if filled[b]])
+        targets[:, j] = np.interp(phase, centres, means, period=1.0)
+    names = [ds.joint_names[j] for j in jittery]
+    return replace(ds, targets=targets, metadata={**ds.metadata, "jittery_joints": names})
 
 
 def symmetric_cycle(ds: Dataset) -> Dataset:
