@@ -14,6 +14,7 @@ from mimic.errors import DatasetError
 from mimic.learn.dataset import (
     NON_REPEATING_RAD,
     as_cyclic,
+    average_jittery_joints,
     cut_dataset,
     dataset_from_frame,
     detect_period_s,
@@ -111,6 +112,22 @@ def test_a_cycle_of_jittery_joints_is_still_one_cycle():
     assert len(kept.time_s) > 0.7 * len(t)
     with pytest.raises(DatasetError, match="not one cyclic motion"):
         drop_non_repeating(as_cyclic(dataset_from_frame(frame), 0.61))
+    # What is learned of a jittery joint is its cycle's mean: a network fitted to the cloud
+    # learns wiggles of its own. The steady joints stay as they are.
+    mean = average_jittery_joints(kept)
+    assert mean.metadata["jittery_joints"] == list(NAO.joint_names[:2])
+    np.testing.assert_array_equal(mean.targets[:, 2:], kept.targets[:, 2:])
+    np.testing.assert_array_equal(mean.time_s, kept.time_s)
+
+    # The jitter (0.3 rad) averaged over the cycles at each phase (14 here).
+    def head_rms(d):
+        return float(np.sqrt(np.mean((d.targets[:, :2] - NAO.stand_pose_rad[:2]) ** 2)))
+
+    assert head_rms(kept) > 0.25 and head_rms(mean) < 0.12
+    steady = drop_non_repeating(as_cyclic(dataset_from_frame(pl.DataFrame({
+        "time_s": t, **{n: _gait(0.84, 12.0)[1][:, i] for i, n in enumerate(NAO.joint_names)}
+    })), 0.84))  # fmt: skip
+    assert average_jittery_joints(steady) is steady
 
 
 def test_a_cut_keeps_its_samples_timed_from_zero_and_ends_the_motion_there():
