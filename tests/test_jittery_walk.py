@@ -123,30 +123,3 @@ def test_the_jittery_walk_is_an_agent_by_name_and_takes_a_speed():
     assert isinstance(agent, OtherTeamT1PolicyWalk)
     assert agent.command == replace(JITTERY_WALK, speed_m_s=0.3)
     assert make_jittery_walk().command.action_noise_rad > 0
-
-
-def test_a_recording_of_the_jittery_walk_is_learned_step_by_step(tmp_path):
-    """Recorded black-box in our world (50 Hz), its jittery joints are judged against their
-    own jitter and learned as their cycle's mean: without that, more than half its samples
-    were off the cycle and ``--period steps`` refused it."""
-    from typer.testing import CliRunner
-
-    from mimic.cli.main import app
-    from mimic.learn.train import training_dataset
-
-    out = tmp_path / "jittery.mcap"
-    said = CliRunner().invoke(
-        app,
-        [
-            "record", "other-team-jittery-walk", "--robot", "t1", "--duration", "12",
-            "--observe-only", "-o", str(out),
-        ],
-    )  # fmt: skip
-    assert said.exit_code == 0, said.output
-    ds = training_dataset(out, start_s=1, period="steps", symmetric=True)
-    assert {"AAHead_yaw", "Head_pitch"} <= set(ds.metadata["jittery_joints"])
-    assert ds.metadata["non_repeating"] < 0.25 * ds.n_samples
-    head = [ROBOT.joint_index("AAHead_yaw"), ROBOT.joint_index("Head_pitch")]
-    order = np.argsort(ds.time_s / ds.period_s % 1.0)
-    # Its cycle: no sample-to-sample jumps (1.2 rad without the averaging, 0.19 with).
-    assert np.abs(np.diff(ds.targets[order][:, head], axis=0)).max() < 0.4

@@ -52,20 +52,14 @@ NON_REPEATING_RAD = 0.1
 #: whose joints jitter (a learned policy's actions, cycle to cycle) has nearly every sample off
 #: the cycle by more than 0.1 rad in some joint, and none of them is a glitch. The jitter is
 #: read from the deviations from the cycle, sample to sample: 1.4826 times the median absolute
-#: second difference of the deviations (``NON_REPEATING_JITTER_LAG_S`` apart), over sqrt 6 (a
-#: white noise's standard deviation). A cycle at the wrong period, a motion that is not one cycle, or a fall drift off
+#: second difference of consecutive deviations, over sqrt 6 (a white noise's standard
+#: deviation). A cycle at the wrong period, a motion that is not one cycle, or a fall drift off
 #: the cycle smoothly, and their second differences stay small. Measured (league recordings,
 #: 4-24 s, docs/real-team-walk.md): the steady walks' joints jitter by at most 0.015 rad (their
 #: limit stays 0.1: the same samples left out); the jittery walk's head by 0.12 rad, and 6
 #: times it keeps 401 of its 478 samples; the T1 policy-like walk at one fixed period
 #: (``--period auto``) is still refused (384 of 501 samples off), as is the jittery walk's.
 NON_REPEATING_JITTERS = 6.0
-#: The jitter's second differences span samples this far apart [s] (the nearest whole number
-#: of samples, at least one): the league monitor's 25 Hz frame. A recording at 50 Hz (our
-#: worlds) sees a jitter the motors smooth over a few cycles, and its neighbouring samples
-#: alike: the jittery walk recorded in our world had 261 of 516 samples off at one sample, 22
-#: at two. The steady T1 walks at 50 Hz jitter by at most 0.011 rad at two samples.
-NON_REPEATING_JITTER_LAG_S = 0.04
 
 
 #: A normal spread's standard deviation per median absolute deviation.
@@ -415,9 +409,7 @@ def drop_non_repeating(
         return ds
     t = ds.time_s
     deviation, judged = _cycle_deviation(ds)
-    limit = np.maximum(
-        float(limit_rad), jitters * _jitter_rad(deviation, judged, _jitter_lag(ds.time_s))
-    )
+    limit = np.maximum(float(limit_rad), jitters * _jitter_rad(deviation, judged))
     keep = ~judged | np.all(np.abs(deviation) <= limit, axis=1)
     dropped = int((~keep).sum())
     if dropped == 0:
@@ -437,12 +429,6 @@ def drop_non_repeating(
     )
 
 
-def _jitter_lag(time_s: np.ndarray) -> int:
-    """Samples ``NON_REPEATING_JITTER_LAG_S`` apart, at least one."""
-    dt = float(np.median(np.diff(np.asarray(time_s, float))))
-    return max(1, round(NON_REPEATING_JITTER_LAG_S / dt)) if dt > 0 else 1
-
-
 def _cycle_deviation(ds: Dataset) -> tuple[np.ndarray, np.ndarray]:
     """(T, N) each sample's targets less the median of the samples at its phase (signed; NaN
     where the phase bin holds fewer than 3 samples: it judges nothing), and (T,) whether the
@@ -457,13 +443,12 @@ def _cycle_deviation(ds: Dataset) -> tuple[np.ndarray, np.ndarray]:
     return deviation, ~np.isnan(deviation[:, 0])
 
 
-def _jitter_rad(deviation: np.ndarray, judged: np.ndarray, lag: int) -> np.ndarray:
-    """(N,) each joint's jitter about the cycle (``NON_REPEATING_JITTERS``), its second
-    differences ``lag`` samples apart; zeros when too few samples were judged."""
-    d = deviation[judged]  # judged samples, in turn
-    if len(d) < 2 * lag + 2:
+def _jitter_rad(deviation: np.ndarray, judged: np.ndarray) -> np.ndarray:
+    """(N,) each joint's jitter about the cycle (``NON_REPEATING_JITTERS``); zeros when fewer
+    than 4 samples were judged."""
+    if judged.sum() < 4:
         return np.zeros(deviation.shape[1])
-    bend = d[2 * lag :] - 2 * d[lag:-lag] + d[: -2 * lag]
+    bend = np.diff(deviation[judged], n=2, axis=0)  # consecutive judged samples
     return _MAD_TO_SD * np.median(np.abs(bend), axis=0) / math.sqrt(6)
 
 
@@ -484,9 +469,7 @@ def average_jittery_joints(
     if ds.period_s is None or ds.n_samples < 4:
         return ds
     deviation, judged = _cycle_deviation(ds)
-    jittery = np.flatnonzero(
-        jitters * _jitter_rad(deviation, judged, _jitter_lag(ds.time_s)) > limit_rad
-    )
+    jittery = np.flatnonzero(jitters * _jitter_rad(deviation, judged) > limit_rad)
     if len(jittery) == 0:
         return ds
     t = ds.time_s
