@@ -60,6 +60,9 @@ NON_REPEATING_RAD = 0.1
 #: times it keeps 401 of its 478 samples; the T1 policy-like walk at one fixed period
 #: (``--period auto``) is still refused (384 of 501 samples off), as is the jittery walk's.
 NON_REPEATING_JITTERS = 6.0
+# (At 50 Hz, in our worlds, the motors smooth the jitter over a few cycles and neighbouring
+# samples look alike: the jittery walk recorded there is still refused. Differences 40 ms
+# apart let it through, and let a steady walk at a wrong period through too.)
 
 
 #: A normal spread's standard deviation per median absolute deviation.
