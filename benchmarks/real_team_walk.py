@@ -26,6 +26,8 @@ seeds 0-5 and 1000-1007, and the recordings of trial seeds 47 and 53 (the fit). 
 of the walk and the copy was measured once on a seed of its own (11, 23, 31, 47, 53, then
 the default 59; the balance layer's yaw damping, developed on episode seeds 0-7 and 100-115
 with the recordings of seeds 47, 53, 59 and 61, on 83 and again on 59; docs/real-team-walk.md).
+``--agent other-team-jittery-walk`` (the stand-in with a learned policy's action jitter): the
+learning's robustness to jitter was developed on trial seeds 131-133 and measured on 151.
 """
 
 from __future__ import annotations

@@ -14,6 +14,7 @@ from mimic.errors import DatasetError
 from mimic.learn.dataset import (
     NON_REPEATING_RAD,
     as_cyclic,
+    average_jittery_joints,
     cut_dataset,
     dataset_from_frame,
     detect_period_s,
@@ -83,6 +84,50 @@ def test_a_cycle_leaves_out_what_does_not_repeat_it():
     assert drop_non_repeating(one_shot) is one_shot
     with pytest.raises(DatasetError, match="not one cyclic motion"):
         drop_non_repeating(as_cyclic(dataset_from_frame(frame), 0.61))
+
+
+def test_a_cycle_of_jittery_joints_is_still_one_cycle():
+    """A learned policy's joints jitter from one sample to the next (here two joints, 0.3 rad
+    at 25 Hz): nearly every sample is off the cycle by more than 0.1 rad, and none of them is
+    a glitch. The limit grows with each joint's own jitter: the cycle is kept, a glitch in a
+    steady joint and the fall are still left out, and a wrong period is still refused."""
+    import polars as pl
+
+    t, q = _gait(0.84, 12.0)
+    rng = np.random.default_rng(3)
+    jitter = np.zeros((len(t), 2))
+    for k in range(1, len(t)):  # AR(1), 0.4 kept per sample
+        jitter[k] = 0.4 * jitter[k - 1] + math.sqrt(1 - 0.16) * rng.normal(0, 0.3, 2)
+    q[:, :2] += jitter
+    q[-25:] += np.linspace(0, 0.6, 25)[:, None]  # the fall
+    q[100, 3] += 0.2  # a glitch
+    frame = pl.DataFrame({"time_s": t, **{n: q[:, i] for i, n in enumerate(NAO.joint_names)}})
+    ds = as_cyclic(dataset_from_frame(frame, metadata={"source": "rec.mcap"}), 0.84)
+    with pytest.raises(DatasetError, match="not one cyclic motion"):
+        drop_non_repeating(ds, jitters=0.0)  # the fixed limit alone: refused
+    kept = drop_non_repeating(ds)
+    dropped = np.setdiff1d(np.round(t, 4), np.round(kept.time_s, 4))
+    assert round(t[100], 4) in dropped  # the glitch
+    assert np.all(np.isin(np.round(t[-15:], 4), dropped))  # the fall, past 5 jitters
+    assert len(kept.time_s) > 0.7 * len(t)
+    with pytest.raises(DatasetError, match="not one cyclic motion"):
+        drop_non_repeating(as_cyclic(dataset_from_frame(frame), 0.61))
+    # What is learned of a jittery joint is its cycle's mean: a network fitted to the cloud
+    # learns wiggles of its own. The steady joints stay as they are.
+    mean = average_jittery_joints(kept)
+    assert mean.metadata["jittery_joints"] == list(NAO.joint_names[:2])
+    np.testing.assert_array_equal(mean.targets[:, 2:], kept.targets[:, 2:])
+    np.testing.assert_array_equal(mean.time_s, kept.time_s)
+
+    # The jitter (0.3 rad) averaged over the cycles at each phase (14 here).
+    def head_rms(d):
+        return float(np.sqrt(np.mean((d.targets[:, :2] - NAO.stand_pose_rad[:2]) ** 2)))
+
+    assert head_rms(kept) > 0.25 and head_rms(mean) < 0.12
+    steady = drop_non_repeating(as_cyclic(dataset_from_frame(pl.DataFrame({
+        "time_s": t, **{n: _gait(0.84, 12.0)[1][:, i] for i, n in enumerate(NAO.joint_names)}
+    })), 0.84))  # fmt: skip
+    assert average_jittery_joints(steady) is steady
 
 
 def test_a_cut_keeps_its_samples_timed_from_zero_and_ends_the_motion_there():

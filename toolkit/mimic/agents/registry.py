@@ -57,10 +57,13 @@ ROBOT_BEHAVIOURS: dict[str, dict[str, str]] = {
         # A walk like a learned policy's: a velocity command toward a noisy target, a step
         # time that adapts every step (no two steps alike).
         "other-team-policy-walk": "mimic.agents.other_team_t1:make_policy_walk",
+        # That walk with a learned policy's action jitter: its joints move as fast as a real
+        # team's in a black-box recording.
+        "other-team-jittery-walk": "mimic.agents.other_team_t1:make_jittery_walk",
     },
 }
 #: Behaviours whose factory takes a forward speed command [m/s] (``--vx``).
-_COMMANDED = ("other-team-walk", "other-team-policy-walk")
+_COMMANDED = ("other-team-walk", "other-team-policy-walk", "other-team-jittery-walk")
 #: Appended to a model path (``kick.mimic+balance``): play that model inside the balance layer.
 BALANCE_SUFFIX = "+balance"
 

@@ -34,6 +34,7 @@ __all__ = [
     "detect_period_s",
     "as_cyclic",
     "drop_non_repeating",
+    "average_jittery_joints",
     "symmetric_cycle",
     "phase_bins",
     "bin_count",
@@ -47,6 +48,25 @@ __all__ = [
 #: team's walk show single glitches of 0.2 rad. Its steady samples stay within 0.045 rad of
 #: the median (observed) and 0.04 (compensated).
 NON_REPEATING_RAD = 0.1
+#: ... or by more than this many times the joint's jitter, where that is the larger. A walk
+#: whose joints jitter (a learned policy's actions, cycle to cycle) has nearly every sample off
+#: the cycle by more than 0.1 rad in some joint, and none of them is a glitch. The jitter is
+#: read from the deviations from the cycle, sample to sample: 1.4826 times the median absolute
+#: second difference of consecutive deviations, over sqrt 6 (a white noise's standard
+#: deviation). A cycle at the wrong period, a motion that is not one cycle, or a fall drift off
+#: the cycle smoothly, and their second differences stay small. Measured (league recordings,
+#: 4-24 s, docs/real-team-walk.md): the steady walks' joints jitter by at most 0.015 rad (their
+#: limit stays 0.1: the same samples left out); the jittery walk's head by 0.12 rad, and 6
+#: times it keeps 401 of its 478 samples; the T1 policy-like walk at one fixed period
+#: (``--period auto``) is still refused (384 of 501 samples off), as is the jittery walk's.
+NON_REPEATING_JITTERS = 6.0
+# (At 50 Hz, in our worlds, the motors smooth the jitter over a few cycles and neighbouring
+# samples look alike: the jittery walk recorded there is still refused. Differences 40 ms
+# apart let it through, and let a steady walk at a wrong period through too.)
+
+
+#: A normal spread's standard deviation per median absolute deviation.
+_MAD_TO_SD = 1.4826
 
 
 @dataclass(frozen=True)
@@ -375,33 +395,33 @@ def bin_count(time_s: np.ndarray, period_s: float, most: int | None = None) -> i
     return bins if most is None else max(2, min(bins, most))
 
 
-def drop_non_repeating(ds: Dataset, limit_rad: float = NON_REPEATING_RAD) -> Dataset:
+def drop_non_repeating(
+    ds: Dataset, limit_rad: float = NON_REPEATING_RAD, jitters: float = NON_REPEATING_JITTERS
+) -> Dataset:
     """A cyclic dataset without the samples that do not repeat: those whose targets differ by
     more than ``limit_rad`` in some joint from the median of the samples at the same phase
-    (phases binned at the sampling step; a bin of fewer than 3 samples judges nothing). The
-    number left out is in ``metadata["non_repeating"]``. One-shot datasets are returned as
-    they are.
+    (phases binned at the sampling step; a bin of fewer than 3 samples judges nothing), or by
+    more than ``jitters`` times that joint's jitter where that is larger
+    (``NON_REPEATING_JITTERS``). The number left out is in ``metadata["non_repeating"]``.
+    One-shot datasets are returned as they are.
 
     Raises:
         DatasetError: more than half the samples do not repeat (not one cyclic motion).
     """
     if ds.period_s is None or ds.n_samples < 3:
         return ds
-    t, q = ds.time_s, ds.targets[:, :-1]
-    k = phase_bins(t, ds.period_s)
-    deviation = np.zeros(len(t))
-    for b in range(bin_count(t, ds.period_s)):
-        at = k == b
-        if at.sum() >= 3:
-            deviation[at] = np.abs(q[at] - np.median(q[at], axis=0)).max(axis=1)
-    keep = deviation <= limit_rad
+    t = ds.time_s
+    deviation, judged = _cycle_deviation(ds)
+    limit = np.maximum(float(limit_rad), jitters * _jitter_rad(deviation, judged))
+    keep = ~judged | np.all(np.abs(deviation) <= limit, axis=1)
     dropped = int((~keep).sum())
     if dropped == 0:
         return ds
     if dropped > len(t) / 2:
         raise DatasetError(
             f"{_where(ds.metadata)}: {dropped} of {len(t)} samples differ from the cycle by "
-            f"more than {limit_rad} rad: not one cyclic motion at {ds.period_s:.3f} s (cut it "
+            f"more than {limit_rad} rad (or {jitters:g} times a joint's jitter): not one cyclic "
+            f"motion at {ds.period_s:.3f} s (cut it "
             "to its steady part with --start/--end, or give --period)"
         )
     return replace(
@@ -410,6 +430,63 @@ def drop_non_repeating(ds: Dataset, limit_rad: float = NON_REPEATING_RAD) -> Dat
         targets=ds.targets[keep],
         metadata={**ds.metadata, "non_repeating": dropped},
     )
+
+
+def _cycle_deviation(ds: Dataset) -> tuple[np.ndarray, np.ndarray]:
+    """(T, N) each sample's targets less the median of the samples at its phase (signed; NaN
+    where the phase bin holds fewer than 3 samples: it judges nothing), and (T,) whether the
+    sample was judged."""
+    t, q = ds.time_s, ds.targets[:, :-1]
+    k = phase_bins(t, ds.period_s)
+    deviation = np.full(q.shape, np.nan)
+    for b in range(bin_count(t, ds.period_s)):
+        at = k == b
+        if at.sum() >= 3:
+            deviation[at] = q[at] - np.median(q[at], axis=0)
+    return deviation, ~np.isnan(deviation[:, 0])
+
+
+def _jitter_rad(deviation: np.ndarray, judged: np.ndarray) -> np.ndarray:
+    """(N,) each joint's jitter about the cycle (``NON_REPEATING_JITTERS``); zeros when fewer
+    than 4 samples were judged."""
+    if judged.sum() < 4:
+        return np.zeros(deviation.shape[1])
+    bend = np.diff(deviation[judged], n=2, axis=0)  # consecutive judged samples
+    return _MAD_TO_SD * np.median(np.abs(bend), axis=0) / math.sqrt(6)
+
+
+def average_jittery_joints(
+    ds: Dataset, limit_rad: float = NON_REPEATING_RAD, jitters: float = NON_REPEATING_JITTERS
+) -> Dataset:
+    """A cyclic dataset whose jittery joints' targets are their cycle's mean: for each joint
+    whose jitter (``NON_REPEATING_JITTERS``) times ``jitters`` exceeds ``limit_rad``, every
+    sample's target becomes the mean of the samples at its phase (bins at the sampling step,
+    linear between their centres, around the cycle). Their names are in
+    ``metadata["jittery_joints"]``; a dataset without such joints is returned as it is.
+
+    Why: a learned policy's joints jitter from sample to sample, and the compensated targets
+    (``learn.pd_compensate`` differentiates the angles twice) jitter more. A network fitted to
+    that cloud learns wiggles of its own: the copy of the T1 jittery walk swung its head's
+    references at up to 58 rad/s, where the original's mean head hardly moves.
+    """
+    if ds.period_s is None or ds.n_samples < 4:
+        return ds
+    deviation, judged = _cycle_deviation(ds)
+    jittery = np.flatnonzero(jitters * _jitter_rad(deviation, judged) > limit_rad)
+    if len(jittery) == 0:
+        return ds
+    t = ds.time_s
+    bins = bin_count(t, ds.period_s)
+    k = phase_bins(t, ds.period_s)
+    filled = np.array([np.any(k == b) for b in range(bins)])
+    centres = np.arange(bins)[filled] / bins
+    phase = t / ds.period_s % 1.0
+    targets = ds.targets.copy()
+    for j in jittery:
+        means = np.array([targets[k == b, j].mean() for b in range(bins) if filled[b]])
+        targets[:, j] = np.interp(phase, centres, means, period=1.0)
+    names = [ds.joint_names[j] for j in jittery]
+    return replace(ds, targets=targets, metadata={**ds.metadata, "jittery_joints": names})
 
 
 def symmetric_cycle(ds: Dataset) -> Dataset:

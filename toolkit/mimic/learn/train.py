@@ -24,6 +24,7 @@ from mimic.learn.compensate import compensate_references
 from mimic.learn.dataset import (
     Dataset,
     as_cyclic,
+    average_jittery_joints,
     cut_dataset,
     dataset_from_file,
     detect_period_s,
@@ -412,7 +413,7 @@ def training_dataset(
         speed = tf.walk_speed_m_s(robot, float(span[0]), float(span[1]))
         if speed is not None:
             ds = replace(ds, metadata={**ds.metadata, "walk_speed_m_s": speed})
-    ds = drop_non_repeating(as_cyclic(ds, period_s))
+    ds = average_jittery_joints(drop_non_repeating(as_cyclic(ds, period_s)))
     if symmetric:
         ds = symmetric_cycle(ds)
     track = None

@@ -15,13 +15,19 @@ from __future__ import annotations
 from dataclasses import replace
 
 from mimic.agents.other_team_t1.kick import OtherTeamT1Kick
-from mimic.agents.other_team_t1.params import KickParams, PolicyWalkParams, WalkParams
+from mimic.agents.other_team_t1.params import (
+    JITTERY_WALK,
+    KickParams,
+    PolicyWalkParams,
+    WalkParams,
+)
 from mimic.agents.other_team_t1.policy_walk import OtherTeamT1PolicyWalk
 from mimic.agents.other_team_t1.walk import OtherTeamT1Walk
 
 __all__ = [
     "make_walk",
     "make_policy_walk",
+    "make_jittery_walk",
     "make_kick",
     "OtherTeamT1Walk",
     "WalkParams",
@@ -44,6 +50,16 @@ def make_policy_walk(vx_m_s: float | None = None):
     (default: its command's)."""
 
     command = PolicyWalkParams()
+    if vx_m_s is not None:
+        command = replace(command, speed_m_s=float(vx_m_s))
+    return OtherTeamT1PolicyWalk(WalkParams(), command)
+
+
+def make_jittery_walk(vx_m_s: float | None = None) -> OtherTeamT1PolicyWalk:
+    """The policy-like walk with a learned policy's action jitter on every joint's reference
+    (``params.JITTERY_WALK``); forward at ``vx_m_s`` [m/s] (default: its command's)."""
+
+    command = JITTERY_WALK
     if vx_m_s is not None:
         command = replace(command, speed_m_s=float(vx_m_s))
     return OtherTeamT1PolicyWalk(WalkParams(), command)

@@ -7,7 +7,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-__all__ = ["WalkParams", "KickParams", "PolicyWalkParams"]
+__all__ = ["WalkParams", "KickParams", "PolicyWalkParams", "JITTERY_WALK"]
 
 
 @dataclass(frozen=True)
@@ -154,6 +154,45 @@ class PolicyWalkParams:
     max_step_scale: float = 1.2
     # Largest change of the step time from one step to the next [cycles of 20 ms].
     max_step_change_cycles: int = 1
+    # A learned policy's action jitter: each joint's reference gets its own AR(1) noise every
+    # 20 ms cycle, of this stationary standard deviation [rad] on the head (0: none, the walk
+    # as it was) ...
+    action_noise_rad: float = 0.0
+    # ... this share of it on the arms, and on the waist and legs (the walk stands on them:
+    # 0.02 rad of white noise there fell in 3 of 3 runs, 0.01 in none; docs/real-team-walk.md)
+    # ...
+    action_noise_arm_share: float = 1.0
+    action_noise_leg_share: float = 1.0
+    # ... and this share of it carried over from one cycle to the next (0..1; the rest is
+    # drawn anew). A policy's actions jitter from cycle to cycle: 0 is white noise.
+    action_noise_keep: float = 0.0
     # Seed of the team's sensor noise (mixed with its first observation, so each episode
     # differs and a seeded episode replays exactly).
     seed: int = 0
+
+    def __post_init__(self) -> None:
+        if not self.action_noise_rad >= 0.0:
+            raise ValueError(f"action_noise_rad must be >= 0, not {self.action_noise_rad}")
+        if not (self.action_noise_arm_share >= 0.0 and self.action_noise_leg_share >= 0.0):
+            raise ValueError("action_noise_arm_share and action_noise_leg_share must be >= 0")
+        if not 0.0 <= self.action_noise_keep < 1.0:
+            raise ValueError(f"action_noise_keep must be in [0, 1), not {self.action_noise_keep}")
+
+
+#: ``other-team-jittery-walk``: the policy-like walk with a learned policy's action jitter, so
+#: that its black-box recording's joints move as a real team's do (25 Hz differences, steady
+#: part: 99th percentile about 10 rad/s, largest about 20; a real team's: up to 21). The walk
+#: takes little jitter where it stands and balances: the legs and waist get 0.009 rad (0.018
+#: fell in 9 of 20 scratch runs, 0.035 in 20 of 20), the arms 0.018, the head 0.35, which
+#: carries the speeds. 0.4 kept per cycle: jitter the motors pass on (white noise of 0.1 rad
+#: on the head and arms moved them at under 7 rad/s). It walks slower than the policy-like
+#: walk (0.35 m/s): at 0.45 m/s this jitter fell in 4 of 10 runs, at 0.55 in 9 of 10, at
+#: 0.35 in none (as a real team's walk, whose steps take twice as long). Tuned on 25 s
+#: scratch episodes in the league (episode seeds 0-29): docs/real-team-walk.md.
+JITTERY_WALK = PolicyWalkParams(
+    speed_m_s=0.35,
+    action_noise_rad=0.35,
+    action_noise_arm_share=0.05,
+    action_noise_leg_share=0.025,
+    action_noise_keep=0.4,
+)

@@ -14,10 +14,15 @@ those traits, built on the team's pendulum walk (``walk.OtherTeamT1Walk``):
   the plan (at the commanded speed a longer step lands farther, under a torso falling ahead),
   read through a noisy estimate that wanders from step to step, within
   ``min_step_scale``..``max_step_scale`` of the team's step time and at most one cycle from
-  the last step's (the pendulum's sway cannot change its rhythm at once).
+  the last step's (the pendulum's sway cannot change its rhythm at once);
+* **optionally, a policy's action jitter** (``action_noise_rad``, off by default): every
+  cycle each joint's reference gets an AR(1) noise of its own, as a learned policy's actions
+  jitter from one 50 Hz cycle to the next; the PD motors pass part of it to the joints.
 
 Its noise comes from a generator seeded by ``PolicyWalkParams.seed`` and the robot's first
-observation, so every episode walks differently and a seeded episode replays exactly.
+observation, so every episode walks differently and a seeded episode replays exactly. The
+action jitter has a stream of its own from the same seed and observation: turning it on leaves
+the steering's and the step time's draws as they were.
 ``steps`` lists each step's (duration [s], forward [m/s], sideways [m/s], turn [rad/s])
 command, for measurement.
 """
@@ -29,11 +34,15 @@ import zlib
 
 import numpy as np
 
+from mimic.agents.base import JointCommand
 from mimic.agents.other_team_t1.params import PolicyWalkParams, WalkParams
 from mimic.agents.other_team_t1.walk import OtherTeamT1Walk
 from mimic.world.base import CYCLE_S, Observation
 
 __all__ = ["OtherTeamT1PolicyWalk"]
+
+#: Mixed into the action jitter's seed: its stream apart from the steering's and timing's.
+_ACTION_STREAM = 1
 
 
 class OtherTeamT1PolicyWalk(OtherTeamT1Walk):
@@ -51,13 +60,18 @@ class OtherTeamT1PolicyWalk(OtherTeamT1Walk):
         self._target_xy_m = np.zeros(2)
         self._noise_m = self._timing_noise = 0.0
         self._cmd = (command.speed_m_s, 0.0, 0.0)
+        self._action_rng = np.random.default_rng(command.seed)
+        self._action_noise_rad: np.ndarray | None = None
         super().__init__(params)
+        self._noise_share = self._jitter_shares()
 
     def reset(self, obs: Observation) -> None:
         c = self.command
         # The team's sensor noise: a fresh generator per episode, fixed by what it first sees.
         mix = zlib.crc32(np.asarray(obs.joint_angles_rad, dtype=np.float64).tobytes())
         self._rng = np.random.default_rng([c.seed, mix])
+        self._action_rng = np.random.default_rng([c.seed, mix, _ACTION_STREAM])
+        self._action_noise_rad = None
         yaw = obs.torso_yaw_rad
         ahead = np.array([math.cos(yaw), math.sin(yaw)])
         self._target_xy_m = np.asarray(obs.torso_pos_m[:2], float) + c.target_distance_m * ahead
@@ -120,6 +134,36 @@ class OtherTeamT1PolicyWalk(OtherTeamT1Walk):
 
     def _velocity_command(self, obs: Observation) -> tuple[float, float]:
         return self._cmd[0], self._cmd[1] * self._step_cycles * CYCLE_S
+
+    def act(self, obs: Observation) -> JointCommand:
+        return JointCommand.references(self._jitter(self._references(obs)))
+
+    def _jitter_shares(self) -> np.ndarray:
+        """Per joint: its share of ``action_noise_rad`` (legs and waist, arms, the rest)."""
+        c, robot = self.command, self._body.robot
+        share = np.ones(robot.num_joints)
+        for i, name in enumerate(robot.joint_names):
+            if "Shoulder" in name or "Elbow" in name:
+                share[i] = c.action_noise_arm_share
+        legs = [i for side in self._body.leg.values() for i in side.values()]
+        share[legs + [robot.joint_index("Waist")]] = c.action_noise_leg_share
+        return share
+
+    def _jitter(self, q: np.ndarray) -> np.ndarray:
+        """The references with this cycle's action jitter (once per cycle: ``_references``
+        calls itself when the walk halts)."""
+        c = self.command
+        if c.action_noise_rad <= 0.0:  # no draw at all: the walk without jitter, bit for bit
+            return q
+        draw = self._action_rng.normal(0.0, c.action_noise_rad, q.shape) * self._noise_share
+        if self._action_noise_rad is None:  # the first cycle: a draw from the stationary law
+            self._action_noise_rad = draw
+        else:
+            keep = c.action_noise_keep
+            self._action_noise_rad = (
+                keep * self._action_noise_rad + math.sqrt(1 - keep * keep) * draw
+            )
+        return self._body.robot.clip(q + self._action_noise_rad)
 
     def _turn_rad(self, obs: Observation) -> float:
         turn = self._cmd[2] * self._step_cycles * CYCLE_S
