@@ -54,15 +54,12 @@ NON_REPEATING_RAD = 0.1
 #: read from the deviations from the cycle, sample to sample: 1.4826 times the median absolute
 #: second difference of consecutive deviations, over sqrt 6 (a white noise's standard
 #: deviation). A cycle at the wrong period, a motion that is not one cycle, or a fall drift off
-#: the cycle smoothly, and their second differences stay small. Measured (league recordings,
-#: 4-24 s, docs/real-team-walk.md): the steady walks' joints jitter by at most 0.015 rad (their
-#: limit stays 0.1: the same samples left out); the jittery walk's head by 0.12 rad, and 6
-#: times it keeps 401 of its 478 samples; the T1 policy-like walk at one fixed period
-#: (``--period auto``) is still refused (384 of 501 samples off), as is the jittery walk's.
+#: the cycle smoothly, and their second differences stay small, so they are still refused. A
+#: steady walk's joints jitter so little that its limit stays 0.1 rad. The jitter is read at the
+#: league monitor's 25 Hz; at 50 Hz the motors smooth it over a few samples and a jittery
+#: recording is still refused (docs/real-team-walk.md: the figures, and why a wider span was
+#: not kept).
 NON_REPEATING_JITTERS = 6.0
-# (At 50 Hz, in our worlds, the motors smooth the jitter over a few cycles and neighbouring
-# samples look alike: the jittery walk recorded there is still refused. Differences 40 ms
-# apart let it through, and let a steady walk at a wrong period through too.)
 
 
 #: A normal spread's standard deviation per median absolute deviation.

@@ -17,6 +17,7 @@ import numpy as np
 
 from mimic.tasks.base import EpisodeBatch
 from mimic.trials.executors import Executor, available_cores, make_executor
+from mimic.world.base import CYCLE_S
 
 __all__ = ["run_episodes", "derive_seed", "default_workers", "run_job"]
 
@@ -51,12 +52,8 @@ def _capped(config, budget_s: float | None, counted_s: float):
     if budget_s is None or limit_s is None:
         return config
     # One cycle past what is left: a capped episode's duration is then over the budget.
-    cap_s = max(0.0, budget_s - counted_s) + _CAP_MARGIN_S
+    cap_s = max(0.0, budget_s - counted_s) + CYCLE_S
     return dataclasses.replace(config, episode_limit_s=cap_s) if cap_s < limit_s else config
-
-
-#: How far past the budget's remainder a capped episode runs [s] (one 20 ms cycle).
-_CAP_MARGIN_S = 0.02
 
 
 def run_episodes(
