@@ -208,28 +208,18 @@ def test_an_episode_started_early_stops_once_those_before_it_fill_the_budget(tmp
     an upper bound of what the budget leaves it (200 - 50 s). Once episodes 1 and 2 have
     ended (60 + 40 s) its cap falls to what is left plus a cycle, it stops there, past the
     budget, and does not count: the same episodes count as on one worker."""
-    (tmp_path / "pool").mkdir()
-    (tmp_path / "one").mkdir()
+
+    def trial(name, executor):
+        (tmp_path / name).mkdir()
+        config = _Logged(str(tmp_path / name))
+        return run_episodes(capped_episode, None, config, budget_s=200.0, seed=3, executor=executor)
+
     with PoolExecutor(2) as pool:
-        pooled = run_episodes(
-            capped_episode,
-            None,
-            _Logged(str(tmp_path / "pool")),
-            budget_s=200.0,
-            seed=3,
-            executor=pool,
-        )
+        pooled = trial("pool", pool)
     first_s, last_s = map(float, (tmp_path / "pool" / "3").read_text().split())
     assert first_s == pytest.approx(200.0 - 50.0 + 0.02)
     assert last_s == pytest.approx(200.0 - 50.0 - 60.0 - 40.0 + 0.02)
-    inline = run_episodes(
-        capped_episode,
-        None,
-        _Logged(str(tmp_path / "one")),
-        budget_s=200.0,
-        seed=3,
-        executor=InlineExecutor(),
-    )
+    inline = trial("one", InlineExecutor())
     assert [r["index"] for r in pooled.rows] == [r["index"] for r in inline.rows] == [0, 1, 2]
     # On one worker every episode starts knowing what is left (its config's limit): no
     # live cap.
