@@ -2,6 +2,7 @@
 the cores, and the same results in one process, a process pool and Ray."""
 
 import dataclasses
+import time
 
 import numpy as np
 import pytest
@@ -163,3 +164,63 @@ def test_ray_gives_the_results_of_the_process_pool(local_ray, tmp_path):
     # The trial command on the Ray started above.
     result = CliRunner().invoke(app, ["trial", "walk", "--runs", "2", "--ray"])
     assert result.exit_code == 0, result.output
+
+
+@dataclasses.dataclass(frozen=True)
+class _Logged:
+    """A kick-trial-like config whose episodes note the caps they read in ``log_dir``."""
+
+    log_dir: str = ""
+    episode_limit_s: float = 240.0
+    trace: bool = False
+
+
+#: Natural durations of the episodes of ``capped_episode`` by index [s].
+_DURATIONS_S = (50.0, 60.0, 40.0, 60.0, 60.0)
+
+
+def capped_episode(spec, seed, config):
+    """An episode that plays its natural length unless its live cap falls below it first:
+    it reads the cap as a kick trial's episode does at each decision (here every 10 ms of
+    wall time, for at most 20 s), and stops at the cap if it falls short. Episode 1 takes a
+    second of wall time, so the episodes after it start before it ends. Its index comes from
+    its seed (trial seed 3); what it read goes to ``config.log_dir``."""
+    from pathlib import Path
+
+    from mimic.tasks.budget import episode_cap_s
+
+    index = next(i for i in range(len(_DURATIONS_S)) if _seed(3, i) == seed)
+    natural_s = min(_DURATIONS_S[index], config.episode_limit_s)
+    if index == 1:
+        time.sleep(1.0)
+    first_s = cap_s = episode_cap_s()
+    for _ in range(2000):
+        if cap_s < natural_s or index != 3:
+            break
+        time.sleep(0.01)
+        cap_s = episode_cap_s()
+    Path(config.log_dir, str(index)).write_text(f"{first_s} {cap_s}")
+    return [dict(index=index)], dict(duration_s=min(natural_s, cap_s))
+
+
+def test_an_episode_started_early_stops_once_those_before_it_fill_the_budget(tmp_path):
+    """Two workers: episode 3 starts (in this process) while episode 1 still plays, with only
+    an upper bound of what the budget leaves it (200 - 50 s). Once episodes 1 and 2 have
+    ended (60 + 40 s) its cap falls to what is left plus a cycle, it stops there, past the
+    budget, and does not count: the same episodes count as on one worker."""
+
+    def trial(name, executor):
+        (tmp_path / name).mkdir()
+        config = _Logged(str(tmp_path / name))
+        return run_episodes(capped_episode, None, config, budget_s=200.0, seed=3, executor=executor)
+
+    with PoolExecutor(2) as pool:
+        pooled = trial("pool", pool)
+    first_s, last_s = map(float, (tmp_path / "pool" / "3").read_text().split())
+    assert first_s == pytest.approx(200.0 - 50.0 + 0.02)
+    assert last_s == pytest.approx(200.0 - 50.0 - 60.0 - 40.0 + 0.02)
+    inline = trial("one", InlineExecutor())
+    assert [r["index"] for r in pooled.rows] == [r["index"] for r in inline.rows] == [0, 1, 2]
+    # On one worker every episode starts knowing what is left (its config's limit): no
+    # live cap.
+    assert (tmp_path / "one" / "3").read_text().split() == ["inf", "inf"]

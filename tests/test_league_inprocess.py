@@ -252,6 +252,9 @@ def test_the_league_world_is_in_process_and_the_server_is_league_server():
 def test_bench_league_reports_bare_stepping_and_every_world():
     result = CliRunner().invoke(app, ["bench", "league", "--seconds", "0.3"])
     assert result.exit_code == 0, result.output
-    rows = {line.split()[0]: line.split() for line in result.output.splitlines()[1:6]}
-    assert set(rows) == {"bare", "league", "league-server", "mujoco"}
+    rows = {line.split()[0]: line.split() for line in result.output.splitlines()[1:7]}
+    assert set(rows) == {"bare", "bare-same", "league", "league-server", "mujoco"}
     assert rows["bare"][-1] == "1.00" and float(rows["league"][-1]) > 0
+    # The league world's ratio to MuJoCo taking its own physics steps, on a line of its own.
+    same = next(line for line in result.output.splitlines() if line.startswith("league per"))
+    assert 0 < float(same.split()[4]) < 1

@@ -202,3 +202,17 @@ def test_balance_suffix_wraps_one_model_in_the_balance_layer(tmp_path):
     assert not plain.balance and wrapped.label == "kick (learned) + balance"
     with pytest.raises(MimicError, match="wraps learned motions only"):
         parse_agent_spec("kick_right+balance")
+
+
+def test_a_kick_episode_stops_at_its_live_cap_as_at_its_limit():
+    """A kick episode reads its live cap (``tasks.budget``) at each decision: cut by a cap
+    of 6 s it plays exactly as with a 6 s limit, to 6 s."""
+    from mimic.tasks.budget import episode_cap
+    from mimic.tasks.kick import KickTrialConfig, run_kick_episode
+
+    kick = AgentSpec("motion", "kick_right")
+    with episode_cap(lambda: 6.0):
+        capped = run_kick_episode(kick, 5, KickTrialConfig())
+    limited = run_kick_episode(kick, 5, KickTrialConfig(episode_limit_s=6.0))
+    assert capped == limited
+    assert capped[1]["duration_s"] == pytest.approx(6.0)

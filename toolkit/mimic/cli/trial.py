@@ -502,7 +502,8 @@ def _bench_league(
     rows = bench_worlds(seconds=seconds, kicks={"t1": kick} if kick else None)
     console.print(format_world_speeds(rows), highlight=False)
     console.print(
-        "bare: mj_step of the league's T1 model alone; league: its simulation in this "
+        "bare: mj_step of the league's T1 model alone (standing); bare-same: mj_step alone "
+        "taking the league world's own physics steps of the kick; league: its simulation in this "
         "process; league-server: a hosted server. RTF: simulated s per wall s; +start: the "
         "same with opening and closing the world (the server's: hosting and joining it, once "
         "per trial episode); CPU/sim: CPU s per simulated s, the server's included; xbare: "

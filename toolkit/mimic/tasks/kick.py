@@ -40,6 +40,7 @@ from mimic.tasks.base import (
     ci_columns,
     first_value,
 )
+from mimic.tasks.budget import episode_cap_s
 from mimic.world.base import World
 from mimic.world.registry import MUJOCO, get_world, open_world, world_kind
 
@@ -177,14 +178,20 @@ def kick_scene(offset_m, config: KickTrialConfig, goal_x_m: float) -> Scene:
 
 
 def _walk_to_ball(
-    episode: Episode, offset_m, config: KickTrialConfig, limit_s: float, goal_x_m: float
+    episode: Episode,
+    offset_m,
+    config: KickTrialConfig,
+    limit_s: Callable[[], float],
+    goal_x_m: float,
 ) -> str:
     """Walk behind the ball facing the goal until lined up: ``arrived``, ``fell``, ``timeout``
-    (the walk took too long) or ``not lined up`` (every attempt ended off the ball)."""
+    (the walk took too long, or reached the episode's limit ``limit_s()``) or ``not lined
+    up`` (every attempt ended off the ball)."""
 
     world = episode.world
-    deadline_s = world.time_s + min(config.walk_timeout_s, limit_s - world.time_s)
+    start_s = world.time_s
     for _ in range(config.lineup_attempts):
+        deadline_s = start_s + min(config.walk_timeout_s, limit_s() - start_s)
         goto = GoToPose(make_walk_agent())
         ball = world.ball_pos_m()[:2]
         aim = (offset_m[0] + config.approach_back_off_m, offset_m[1])
@@ -343,10 +350,13 @@ def _play_kick_episode(
     goal_x = world.field.opponent_goal_x_m
     trace = PoseTrace() if config.trace else None
     episode = Episode(world, observers=(trace, disturb.pusher) if trace else (disturb.pusher,))
-    falls, limit_s = episode.falls, config.episode_limit_s
+    falls = episode.falls
+
+    def limit_s() -> float:  # the config's limit, or less as the trial's budget runs out
+        return min(config.episode_limit_s, episode_cap_s())
 
     def left_s() -> float:
-        return limit_s - world.time_s
+        return limit_s() - world.time_s
 
     offset = kick.ball_offset_m()
     kick_scene(offset, config, goal_x).setup(world, rng, observers=episode.watchers)

@@ -77,8 +77,13 @@ class Executor(ABC):
         """Start (or queue) ``fn(arg)``; returns a handle for ``result``."""
 
     @abstractmethod
-    def result(self, handle: Any) -> Any:
-        """The result of a submitted call (waits for it; re-raises its exception)."""
+    def result(self, handle: Any, waiting: Callable[[], None] | None = None) -> Any:
+        """The result of a submitted call (waits for it; re-raises its exception).
+        ``waiting``: called whenever another call ends while this one is waited for."""
+
+    def done(self, handle: Any) -> bool:
+        """The call has ended (its result is there without waiting); False if unknown."""
+        return False
 
     def discard(self, handles: Iterable[Any]) -> None:  # noqa: B027 (optional hook)
         """Calls whose results will never be read: cancel what has not started."""
@@ -115,7 +120,7 @@ class InlineExecutor(Executor):
     def submit(self, fn: Callable, arg: Any) -> Any:
         return (fn, arg)
 
-    def result(self, handle: Any) -> Any:
+    def result(self, handle: Any, waiting: Callable[[], None] | None = None) -> Any:
         fn, arg = handle
         return fn(arg)
 
@@ -127,20 +132,22 @@ def _warm_up() -> None:
 class _Inline:
     """A call this process runs itself (when its result, or another's, is waited for)."""
 
-    __slots__ = ("fn", "arg", "done", "value", "error")
+    __slots__ = ("fn", "arg", "started", "done", "value", "error")
 
     def __init__(self, fn: Callable, arg: Any) -> None:
-        self.fn, self.arg, self.done, self.value, self.error = fn, arg, False, None, None
+        self.fn, self.arg, self.value, self.error = fn, arg, None, None
+        self.started = self.done = False
 
     def run(self) -> None:
-        if not self.done:
-            self.done = True
+        if not self.started:
+            self.started = True
             try:
                 self.value = self.fn(self.arg)
             except BaseException as err:  # re-raised by result(), in the caller's order
                 if isinstance(err, KeyboardInterrupt):
                     raise
                 self.error = err
+            self.done = True
 
 
 class PoolExecutor(Executor):
@@ -186,9 +193,17 @@ class PoolExecutor(Executor):
         while self._inline:
             self._inline.pop(0).run()
 
-    def result(self, handle: Any) -> Any:
+    def done(self, handle: Any) -> bool:
+        return handle.done if isinstance(handle, _Inline) else handle.done()
+
+    def result(self, handle: Any, waiting: Callable[[], None] | None = None) -> Any:
         if not isinstance(handle, _Inline):
-            self._run_inline()  # work while the spawned process does
+            if not handle.done():
+                self._run_inline()  # work while the spawned process does
+            while waiting is not None and not handle.done():
+                others = {f for f in self._spawned if not f.done()} | {handle}
+                wait(others, return_when=FIRST_COMPLETED)
+                waiting()
             return handle.result()
         if handle in self._inline:
             self._inline.remove(handle)
@@ -313,8 +328,12 @@ class RayExecutor(Executor):
     def submit(self, fn: Callable, arg: Any) -> Any:
         return self._remote.remote(fn, arg)
 
-    def result(self, handle: Any) -> Any:
+    def result(self, handle: Any, waiting: Callable[[], None] | None = None) -> Any:
         return self._ray.get(handle)
+
+    def done(self, handle: Any) -> bool:
+        ready, _ = self._ray.wait([handle], timeout=0)
+        return bool(ready)
 
     def discard(self, handles: Iterable[Any]) -> None:  # noqa: B027 (optional hook)
         for ref in handles:

@@ -9,13 +9,19 @@ executor (one process, a pool of any size, Ray).
 from __future__ import annotations
 
 import dataclasses
+import itertools
 import math
+import os
+import shutil
+import tempfile
 from collections import deque
 from collections.abc import Callable
+from pathlib import Path
 
 import numpy as np
 
 from mimic.tasks.base import EpisodeBatch
+from mimic.tasks.budget import episode_cap
 from mimic.trials.executors import Executor, available_cores, make_executor
 from mimic.world.base import CYCLE_S
 
@@ -31,11 +37,46 @@ def default_workers() -> int:
     return available_cores()
 
 
+#: In the process running ``run_episodes``: learns of episodes that ended meanwhile and
+#: rewrites the live caps (``_CapFile`` calls it before it reads, so an episode this process
+#: plays itself sees the others end). None elsewhere.
+_refresh: Callable[[], None] | None = None
+
+
+class _CapFile:
+    """An episode's live cap (``tasks.budget``): a file the trial rewrites as the episodes
+    before it end. Picklable (a path), for the worker that plays the episode. A file never
+    read (another machine's worker) means no cap; one removed after it was read, that the
+    trial is over (0)."""
+
+    def __init__(self, path: str) -> None:
+        self.path, self._seen = path, False
+
+    def __call__(self) -> float:
+        if _refresh is not None:
+            _refresh()
+        try:
+            cap_s = float(Path(self.path).read_text())
+        except (OSError, ValueError):
+            return 0.0 if self._seen else math.inf
+        self._seen = True
+        return cap_s
+
+
+def _write_cap(path: Path, cap_s: float) -> None:
+    """Replace the file at once (a reader sees the old value or the new, never a part)."""
+    part = path.with_suffix(".part")
+    part.write_text(repr(cap_s))
+    os.replace(part, path)
+
+
 def run_job(job: tuple) -> tuple[list[dict], dict]:
-    """One episode: ``(func, spec, seed, config, episode)`` -> (rows, summary), each tagged
-    with the episode index (module level: worker processes and Ray pickle it by name)."""
-    func, spec, seed, config, episode = job
-    rows, summary = func(spec, seed, config)
+    """One episode: ``(func, spec, seed, config, episode[, cap])`` -> (rows, summary), each
+    tagged with the episode index (module level: worker processes and Ray pickle it by
+    name). ``cap``: the episode's live cap (``_CapFile``), if its trial has one."""
+    func, spec, seed, config, episode, *cap = job
+    with episode_cap(cap[0] if cap else None):
+        rows, summary = func(spec, seed, config)
     for r in rows:
         r["episode"] = episode
     summary["episode"] = episode
@@ -88,8 +129,9 @@ def run_episodes(
     throw away. With several workers one more episode waits queued, so a worker that finishes
     first starts the next at once. An episode after the first is given, as its config's
     ``episode_limit_s``, at most what the budget had left when it started (plus a cycle):
-    past that it could not count, so it stops instead of playing on. Which episodes count
-    does not depend on any of this.
+    past that it could not count, so it stops instead of playing on. With several workers
+    that bound shrinks while the episode plays (``tasks.budget``), as the episodes before it
+    end, to zero once it cannot count. Which episodes count does not depend on any of this.
     """
     if (budget_s is None) == (episodes is None):
         raise ValueError("give exactly one of budget_s and episodes")
@@ -110,19 +152,53 @@ def run_episodes(
                 task=task,
             )
     batch = EpisodeBatch([], [], task=task)
+    # Live caps: only where an episode may start before the ones before it have ended.
+    caps = (
+        Path(tempfile.mkdtemp(prefix="mimic-caps-")) if budget_s and executor.workers > 1 else None
+    )
+    cap_s: dict[int, float] = {}  # episode index -> its cap as last written
+    ended: dict[int, tuple] = {}  # episode index -> (rows, summary), ended but not yet counted
 
     def jobs():
-        i = 0
-        while episodes is None or i < episodes:
+        for i in range(episodes) if episodes is not None else itertools.count():
             traced = dataclasses.replace(config, trace=True) if i < trace_episodes else config
-            if i > 0:
-                traced = _capped(traced, budget_s, batch.simulated_s)
             index = first_episode + i
-            yield (func, spec, derive_seed(seed, index), traced, index)
-            i += 1
+            job = (func, spec, derive_seed(seed, index))
+            if i == 0:
+                yield (*job, traced, index)
+                continue
+            traced = _capped(traced, budget_s, batch.simulated_s)
+            limit_s = getattr(traced, "episode_limit_s", None)
+            if caps is None or limit_s is None:
+                yield (*job, traced, index)
+                continue
+            cap_s[index] = limit_s
+            _write_cap(caps / str(index), limit_s)
+            yield (*job, traced, index, _CapFile(str(caps / str(index))))
 
     job_iter = jobs()
-    pending: deque = deque()
+    pending: deque = deque()  # (index, handle), in index order
+
+    def refresh() -> None:
+        """Take the results of episodes that have ended, and lower the caps of those still
+        playing: the budget less every earlier episode known to have ended, plus a cycle (0
+        once that is nothing)."""
+        for index, handle in pending:
+            if index not in ended and executor.done(handle):
+                try:
+                    ended[index] = executor.result(handle)
+                except Exception:  # raised again where it is counted, in index order
+                    pass
+        spent_s = batch.simulated_s
+        for index, _ in pending:
+            if index in cap_s:
+                left_s = budget_s - spent_s
+                cap = left_s + CYCLE_S if left_s > 0 else 0.0
+                if cap < cap_s[index]:
+                    cap_s[index] = cap
+                    _write_cap(caps / str(index), cap)
+            if index in ended:
+                spent_s += ended[index][1]["duration_s"]
 
     # One episode more than workers when there are several: results are collected in order, so
     # a worker that finishes first would otherwise wait for the others before it gets the next.
@@ -143,22 +219,38 @@ def run_episodes(
             job = next(job_iter, None)
             if job is None:
                 return
-            pending.append(executor.submit(run_job, job))
+            pending.append((job[4], executor.submit(run_job, job)))
 
-    top_up()
-    while pending:
-        rows, summary = executor.result(pending.popleft())
-        if (
-            budget_s is not None
-            and batch.episodes
-            and batch.simulated_s + summary["duration_s"] > budget_s
-        ):
-            break  # would end past the budget: it and every later episode do not count
-        batch.add(rows, summary)
-        if progress:
-            progress(batch)
-        if budget_s is not None and batch.simulated_s >= budget_s:
-            break
+    global _refresh
+    outer, _refresh = _refresh, (refresh if caps is not None else None)
+    try:
         top_up()
-    executor.discard(pending)
+        while pending:
+            if _refresh is not None:
+                _refresh()  # the episodes counted so far lower the caps of those playing
+            index, handle = pending[0]
+            if index not in ended:
+                ended[index] = executor.result(handle, waiting=_refresh)
+            pending.popleft()
+            rows, summary = ended.pop(index)
+            if (
+                budget_s is not None
+                and batch.episodes
+                and batch.simulated_s + summary["duration_s"] > budget_s
+            ):
+                break  # would end past the budget: it and every later episode do not count
+            batch.add(rows, summary)
+            if progress:
+                progress(batch)
+            if budget_s is not None and batch.simulated_s >= budget_s:
+                break
+            top_up()
+    finally:
+        _refresh = outer
+        if caps is not None:  # the episodes still playing cannot count: stop them
+            for index, _ in pending:
+                if index in cap_s:
+                    _write_cap(caps / str(index), 0.0)
+            shutil.rmtree(caps, ignore_errors=True)
+    executor.discard([handle for _, handle in pending])
     return batch
