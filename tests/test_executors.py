@@ -2,6 +2,8 @@
 the cores, and the same results in one process, a process pool and Ray."""
 
 import dataclasses
+import multiprocessing
+import os
 import time
 
 import numpy as np
@@ -224,3 +226,20 @@ def test_an_episode_started_early_stops_once_those_before_it_fill_the_budget(tmp
     # On one worker every episode starts knowing what is left (its config's limit): no
     # live cap.
     assert (tmp_path / "one" / "3").read_text().split() == ["inf", "inf"]
+
+
+def dies(_):
+    """A call whose worker process dies at once (killed, out of memory); in this process
+    (a pool runs some calls here) it returns."""
+    if multiprocessing.parent_process() is not None:
+        os._exit(1)
+
+
+def test_a_worker_that_dies_is_one_clear_error():
+    with PoolExecutor(2) as pool:
+        pool.submit(fake_episode, None)  # the first call runs in this process
+        handle = pool.submit(dies, None)
+        with pytest.raises(MimicError, match="a worker process stopped unexpectedly"):
+            pool.result(handle)
+    with PoolExecutor(2) as pool, pytest.raises(MimicError, match="--workers 1"):
+        pool.map(dies, [None, None, None])

@@ -21,6 +21,8 @@ from abc import ABC, abstractmethod
 from collections import deque
 from collections.abc import Callable, Iterable
 from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
+from concurrent.futures.process import BrokenProcessPool
+from contextlib import contextmanager
 from typing import Any
 
 import mimic.tasks.kick  # noqa: F401
@@ -150,6 +152,23 @@ class _Inline:
             self.done = True
 
 
+#: What a user reads when a worker process dies under a trial.
+_WORKER_DIED = (
+    "a worker process stopped unexpectedly (killed, or out of memory?), so the trial cannot "
+    "go on; run it again, or with --workers 1 (in a Python script, start trials from under "
+    "'if __name__ == \"__main__\":')"
+)
+
+
+@contextmanager
+def _workers_alive():
+    """A worker that died turns into one clear error instead of the pool's traceback."""
+    try:
+        yield
+    except BrokenProcessPool:
+        raise MimicError(_WORKER_DIED) from None
+
+
 class PoolExecutor(Executor):
     """This process plus ``workers - 1`` spawned processes, kept until ``close``.
 
@@ -180,13 +199,16 @@ class PoolExecutor(Executor):
         sits idle would leave that process idle for a whole episode."""
         self._spawned = [f for f in self._spawned if not f.done()]
         if self._started and len(self._spawned) < self.workers - 1:
-            self._spawned.append(self._pool.submit(fn, arg))
-            return self._spawned[-1]
+            return self._spawn(fn, arg)
         self._started = True
         if not self._inline:
             self._inline.append(_Inline(fn, arg))
             return self._inline[-1]
-        self._spawned.append(self._pool.submit(fn, arg))
+        return self._spawn(fn, arg)
+
+    def _spawn(self, fn: Callable, arg: Any) -> Any:
+        with _workers_alive():
+            self._spawned.append(self._pool.submit(fn, arg))
         return self._spawned[-1]
 
     def _run_inline(self) -> None:
@@ -204,7 +226,8 @@ class PoolExecutor(Executor):
                 others = {f for f in self._spawned if not f.done()} | {handle}
                 wait(others, return_when=FIRST_COMPLETED)
                 waiting()
-            return handle.result()
+            with _workers_alive():
+                return handle.result()
         if handle in self._inline:
             self._inline.remove(handle)
         handle.run()
@@ -226,17 +249,18 @@ class PoolExecutor(Executor):
         args = list(args)
         results: list = [None] * len(args)
         todo, running = deque(range(len(args))), {}
-        while todo or running:
-            while todo and len(running) < self.workers - 1:
-                i = todo.popleft()
-                running[self._pool.submit(fn, args[i])] = i
-            if todo:
-                i = todo.pop()
-                results[i] = fn(args[i])
-            else:
-                wait(running, return_when=FIRST_COMPLETED)
-            for future in [f for f in running if f.done()]:
-                results[running.pop(future)] = future.result()
+        with _workers_alive():
+            while todo or running:
+                while todo and len(running) < self.workers - 1:
+                    i = todo.popleft()
+                    running[self._pool.submit(fn, args[i])] = i
+                if todo:
+                    i = todo.pop()
+                    results[i] = fn(args[i])
+                else:
+                    wait(running, return_when=FIRST_COMPLETED)
+                for future in [f for f in running if f.done()]:
+                    results[running.pop(future)] = future.result()
         return results
 
     def close(self) -> None:
