@@ -20,10 +20,12 @@ processes of the README's league block: the motion played on a server while ``mi
    copy's time warp, per-leg-joint offsets and gains searched on get-up trial episodes, the
    T1's in our world made league-like (``--world league-like``: the league's solver and
    command delay), the NAO's in ours (``--validate 0``: the trial below is the validation).
-   The T1's back get-up, whose copy rolls onto its front as recorded and then falls back
-   from the front get-up's kneel-sit, gets a second search over that part only: ``mimic
-   improve IMPROVED.mimic --window A,END --budget 150 --seed 4`` (A: where the roll ends,
-   ``ROLL_END_S`` of the recording, in the improved copy's time).
+   The objective scores runs that stay down in stages (how high the torso rose, how far it
+   turned to face the ground, how long it was upright), so the T1's back copy, which sits
+   up and falls back as compensated, is searched into rolling onto its front; the first
+   search ends at the front get-up's kneel-sit, so it gets a second search over the rest
+   only: ``mimic improve IMPROVED.mimic --window A,END --budget 150 --seed 4`` (A: where the
+   roll ends, ``ROLL_END_S`` of the recording, in the improved copy's time).
 4. ``mimic trial getup --compare ORIGINAL REACHED COMPENSATED IMPROVED --runs R --seed S``:
    the T1 in the league's simulation (``--world league``) and in ours, the NAO in ours.
 

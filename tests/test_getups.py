@@ -259,3 +259,40 @@ def test_the_getup_objective_scores_standing_first_then_speed():
         return objective.score(EpisodeBatch(list(rows), []))
 
     assert score(fast, fast) > score(slow, slow) > score(fast, down) > score(down, down)
+
+
+def test_the_getup_objective_climbs_from_sitting_up_to_rolling_over_to_staying_up():
+    """Runs that stay down are ranked by how far they got (the T1's back get-up: a copy that
+    sits up and falls back, one that rolls onto its front, one that stands and topples);
+    any run that stands scores above them all."""
+    from mimic.improve.objectives import make_objective
+    from mimic.tasks.base import EpisodeBatch
+
+    objective = make_objective("getup", episodes=1)
+
+    def score(**row):
+        base = dict(stood=False, time_to_stand_s=None, upright_s=0.0)
+        return objective.score(EpisodeBatch([{**base, **row}], []))
+
+    lies = score(max_torso_height_m=0.15, min_torso_forward_z=0.95)
+    sits = score(max_torso_height_m=0.18, min_torso_forward_z=0.5)
+    rolls = score(max_torso_height_m=0.39, min_torso_forward_z=-1.0)
+    topples = score(max_torso_height_m=0.66, min_torso_forward_z=-1.0, upright_s=1.5)
+    best_down = score(max_torso_height_m=0.75, min_torso_forward_z=-1.0, upright_s=20.0)
+    slowest_up = score(stood=True, time_to_stand_s=objective.trial_config.timeout_s)
+    assert lies < sits < rolls < topples < best_down < slowest_up
+    # Rolling over is worth more than sitting up higher without it.
+    assert score(max_torso_height_m=0.3, min_torso_forward_z=0.5) < rolls
+
+
+def test_the_getup_trial_says_how_far_the_torso_turned_and_how_long_it_stood():
+    from mimic.agents.registry import agent_spec
+    from mimic.tasks.getup import GetupTrialConfig, run_getup_episode
+
+    config = GetupTrialConfig()
+    (row,), _ = run_getup_episode(agent_spec("getup_back"), 1, config)
+    # Our NAO's back get-up rolls onto its front on the way up, then stands to the end.
+    assert row["side"] == "back" and row["min_torso_forward_z"] < -0.7
+    assert row["stood"]
+    stood_for_s = row["duration_s"] - config.settle_s - row["time_to_stand_s"]
+    assert row["upright_s"] == pytest.approx(stood_for_s, abs=0.05)

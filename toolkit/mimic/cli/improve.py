@@ -120,8 +120,8 @@ def _improve(
         typer.Option(
             metavar="START,END",
             help="A learned one-shot model: its offsets and gains act only from START to END "
-            "(seconds of the motion), e.g. where the copy fails (the model written is trained again "
-            "on the corrected output).",
+            "(seconds of the motion), and its time warp from START on, e.g. where the copy fails "
+            "(the model file keeps the network as learned and the correction, exact).",
         ),
     ] = None,
     pick: Annotated[

@@ -130,13 +130,16 @@ def getup_scene(
 
 
 class _Highest(Observer):
-    """The highest the torso got [m]."""
+    """The highest the torso got [m], and the lowest its forward axis pointed (the z of the
+    unit axis: -1 facing the ground)."""
 
     def __init__(self) -> None:
         self.height_m = 0.0
+        self.forward_z = 1.0
 
     def after_step(self, world) -> None:
         self.height_m = max(self.height_m, float(world.torso_pos_m()[2]))
+        self.forward_z = min(self.forward_z, float(world.torso_forward_z()))
 
 
 def run_getup_episode(
@@ -206,6 +209,8 @@ def play_getup(
         end={"done": "done", "timeout": "timeout", "stop": "stop", "fell": "fell"}[outcome.end],
         torso_height_m=float(world.torso_pos_m()[2]),
         max_torso_height_m=highest.height_m,
+        min_torso_forward_z=highest.forward_z,
+        upright_s=float(sum(log.upright)) * CYCLE_S,
         duration_s=world.time_s,
         falls=0 if upright else 1,
         world=world_kind(config.world),
@@ -233,6 +238,11 @@ class GetupRun:
     # The torso's height at the end and the highest it got [m].
     torso_height_m: float
     max_torso_height_m: float
+    # The lowest the torso's forward axis pointed during the run (z of the unit axis: -1
+    # facing the ground; a back get-up that rolls onto its front goes below 0).
+    min_torso_forward_z: float
+    # Time the robot was upright during the run, in all (``World.upright``) [s].
+    upright_s: float
     # Simulated time at the run's end, settling included [s].
     duration_s: float
     # 1 if it did not stand.
@@ -267,9 +277,14 @@ def getup_summary(label: str, batch: EpisodeBatch) -> dict:
 @dataclass(frozen=True)
 class GetupObjective:
     """What ``mimic improve --objective getup`` maximises: the share of get-up trial runs
-    that stood up, less ``time_weight_per_s`` per second they took (mean over runs; a run
+    that stood up, less ``time_weight_per_s`` per second they took (mean over runs). A run
     that stays down counts the trial's whole ``timeout_s``, plus ``height_credit_per_m`` per
-    metre its torso rose at its highest)."""
+    metre its torso rose at its highest, ``turn_credit`` times how far its torso turned to
+    face the ground ((1 - the lowest z of its forward axis) / 2: 0 on its back, 1 face
+    down) and ``upright_credit_per_s`` per second it was upright. So a search has stages to
+    climb where nothing stands: sitting up, rolling from the back onto the front (the T1's
+    back get-up), rising, standing a while before it topples; a run that stands scores
+    above any that does not (docs/getups.md has the figures)."""
 
     # Get-up trial runs per candidate evaluation.
     episodes: int = 4
@@ -279,6 +294,16 @@ class GetupObjective:
     # that starts where nothing stands up gets a slope to climb; a T1 kneeling 0.35 m up
     # earns 0.17, less than any run that stands).
     height_credit_per_m: float = 0.5
+    # A run that stays down: credit for turning to face the ground (class docstring; a
+    # back get-up that sits up and falls back earns about 0.05, one that rolls onto its
+    # front 0.2; a front get-up's runs all earn 0.2, so it ranks them as before).
+    turn_credit: float = 0.2
+    # A run that stays down: credit per second it was upright on the way (at most
+    # ``upright_credit_cap_s``), so a search whose candidates rise and topple can climb to
+    # one that stays up (4 s upright earns 0.2; the credits in all stay below any run that
+    # stands).
+    upright_credit_per_s: float = 0.05
+    upright_credit_cap_s: float = 4.0
     # The get-up trial's settings.
     trial_config: GetupTrialConfig = GetupTrialConfig()
 
@@ -294,18 +319,24 @@ class GetupObjective:
 
     def score(self, batch: EpisodeBatch) -> float:
         """Share of runs that stood, less the time weight per second they took; a run that
-        stayed down: the whole time, plus the height credit."""
-        w, limit, credit = (
+        stayed down: the whole time, plus the height, turn and upright credits."""
+        w, limit, credit, turn, up, cap = (
             self.time_weight_per_s,
             self.trial_config.timeout_s,
             self.height_credit_per_m,
+            self.turn_credit,
+            self.upright_credit_per_s,
+            self.upright_credit_cap_s,
         )
         return float(
             np.mean(
                 [
                     (1.0 - w * r["time_to_stand_s"])
                     if r["stood"]
-                    else -w * limit + credit * r.get("max_torso_height_m", 0.0)
+                    else -w * limit
+                    + credit * r.get("max_torso_height_m", 0.0)
+                    + turn * (1.0 - r.get("min_torso_forward_z", 1.0)) / 2
+                    + up * min(r.get("upright_s", 0.0), cap)
                     for r in batch.rows
                 ]
             )
@@ -317,6 +348,9 @@ class GetupObjective:
             episodes=self.episodes,
             time_weight_per_s=self.time_weight_per_s,
             height_credit_per_m=self.height_credit_per_m,
+            turn_credit=self.turn_credit,
+            upright_credit_per_s=self.upright_credit_per_s,
+            upright_credit_cap_s=self.upright_credit_cap_s,
             trial_config=asdict(self.trial_config),
         )
 
