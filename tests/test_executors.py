@@ -2,6 +2,7 @@
 the cores, and the same results in one process, a process pool and Ray."""
 
 import dataclasses
+import math
 import multiprocessing
 import os
 import time
@@ -184,32 +185,42 @@ _DURATIONS_S = (50.0, 60.0, 40.0, 60.0, 60.0)
 def capped_episode(spec, seed, config):
     """An episode that plays its natural length unless its live cap falls below it first:
     it reads the cap as a kick trial's episode does at each decision (here every 10 ms of
-    wall time, for at most 20 s), and stops at the cap if it falls short. Episode 1 takes a
-    second of wall time, so the episodes after it start before it ends. Its index comes from
-    its seed (trial seed 3); what it read goes to ``config.log_dir``."""
+    wall time, for at most 20 s), and stops at the cap if it falls short. On two workers
+    episode 1 plays in the spawned process, 2 in this one and 3 after 1 in the spawned one;
+    1 takes a second, and 2 ends only once 3 has read its cap (a file says so), so 3 starts
+    before the ones before it have all ended, whatever the machine's speed. Its index comes
+    from its seed (trial seed 3); what it read goes to ``config.log_dir``."""
     from pathlib import Path
 
     from mimic.tasks.budget import episode_cap_s
 
     index = next(i for i in range(len(_DURATIONS_S)) if _seed(3, i) == seed)
     natural_s = min(_DURATIONS_S[index], config.episode_limit_s)
+    started = Path(config.log_dir, "3.started")
     if index == 1:
         time.sleep(1.0)
     first_s = cap_s = episode_cap_s()
-    for _ in range(2000):
-        if cap_s < natural_s or index != 3:
-            break
-        time.sleep(0.01)
-        cap_s = episode_cap_s()
+    if index == 2 and math.isfinite(first_s):  # a live cap: another worker plays episode 3
+        for _ in range(2000):
+            if started.exists():
+                break
+            time.sleep(0.01)
+    if index == 3:
+        started.write_text("")
+        for _ in range(2000):
+            if cap_s < natural_s:
+                break
+            time.sleep(0.01)
+            cap_s = episode_cap_s()
     Path(config.log_dir, str(index)).write_text(f"{first_s} {cap_s}")
     return [dict(index=index)], dict(duration_s=min(natural_s, cap_s))
 
 
 def test_an_episode_started_early_stops_once_those_before_it_fill_the_budget(tmp_path):
-    """Two workers: episode 3 starts (in this process) while episode 1 still plays, with only
-    an upper bound of what the budget leaves it (200 - 50 s). Once episodes 1 and 2 have
-    ended (60 + 40 s) its cap falls to what is left plus a cycle, it stops there, past the
-    budget, and does not count: the same episodes count as on one worker."""
+    """Two workers: episode 3 starts while episode 2 still plays, with only an upper bound of
+    what the budget leaves it (200 - 50 s). Once episodes 1 and 2 have ended (60 + 40 s) its
+    cap falls to what is left plus a cycle, it stops there, past the budget, and does not
+    count: the same episodes count as on one worker."""
 
     def trial(name, executor):
         (tmp_path / name).mkdir()
