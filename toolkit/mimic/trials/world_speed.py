@@ -7,10 +7,10 @@ placement (``rtf``) and with its opening and closing included (``rtf_with_start`
 hosted league server that is hosting and joining it, once per episode in a trial). CPU
 seconds count this process and, for the hosted server, the server process too. The baseline
 (``bench_bare``) is bare ``mj_step`` of the league's own model with the T1 standing in it:
-no agent, no world, nothing but MuJoCo. A standing robot is cheaper to step than a kicking one
-(fewer contacts), so ``bench_bare_same`` replays the league world's own physics steps of the
-same work (every cycle's integration state, set and stepped): the baseline for what the world
-adds around MuJoCo.
+no agent, no world, nothing but MuJoCo. A standing robot is not the kick's physics (other
+contacts, other solver work), so ``bench_bare_same`` replays the league world's own physics
+steps of the same work (every cycle's integration state, set and stepped): the baseline for
+what the world adds around MuJoCo.
 
     rows = bench_worlds(seconds=20)
     print(format_world_speeds(rows))
