@@ -734,3 +734,18 @@ def test_help_texts_keep_their_units_in_brackets():
     assert seen >= 4  # units in brackets: --start, --end, --period, --distance
     res = runner.invoke(app, ["train", "--help"], env={"COLUMNS": "200"})
     assert "[s from the recording's first sample]" in res.output
+
+
+def test_command_lists_wrap_each_summary_as_one_sentence():
+    # A group's list shows each command's first help paragraph; the docstrings' own line
+    # breaks used to cut it mid-sentence ("... our MuJoCo world, the" / "same work ...").
+    for group in ([], ["trial"], ["bench"]):
+        res = runner.invoke(app, [*group, "--help"], env={"COLUMNS": "80"})
+        assert res.exit_code == 0, group
+        rows = [line.strip("│ ").rstrip() for line in res.output.splitlines() if "│" in line]
+        # A summary's line is never cut short while its next line goes on with the sentence.
+        for line, after in zip(rows, rows[1:]):
+            if after.startswith(" ") and after.strip() and after.strip()[0].islower():
+                assert len(line) > 60, (group, line, after)
+    res = runner.invoke(app, ["bench", "--help"], env={"COLUMNS": "80"})
+    assert "MuJoCo world, the same work" in " ".join(res.output.split())

@@ -4,6 +4,7 @@ command that writes files has (``--force``, ``--save``)."""
 from __future__ import annotations
 
 import functools
+import inspect
 import sys
 from collections.abc import Callable
 from pathlib import Path
@@ -106,6 +107,15 @@ class OneLineUsageErrors(TyperGroup):
     """The application's command groups: a bad option value, a missing option or an unknown
     command is one line, ``error: what (where); see 'mimic CMD --help'``, exit status 2, as
     every other bad input (not Typer's multi-line box)."""
+
+    def get_command(self, ctx, cmd_name):
+        # A command's line in the group's list is its help's first paragraph, wrapped to the
+        # terminal: the docstring's own line breaks would otherwise cut it mid-sentence.
+        command = super().get_command(ctx, cmd_name)
+        if command is not None and command.short_help is None and command.help:
+            first = inspect.cleandoc(command.help).split("\n\n")[0]
+            command.short_help = " ".join(first.split())
+        return command
 
     def make_context(self, *args, **kwargs):
         with _one_line_usage():

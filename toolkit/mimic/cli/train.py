@@ -14,6 +14,7 @@ from mimic.cli.common import (
     FORCE,
     SAVE,
     SAVE_OLD,
+    OneLineUsageErrors,
     console,
     err_console,
     reports_errors,
@@ -24,7 +25,9 @@ from mimic.cli.common import (
 __all__ = ["register", "bench_app"]
 
 bench_app = typer.Typer(
-    help="Speed benchmarks (printed ratios vs a baseline run in-process).", no_args_is_help=True
+    cls=OneLineUsageErrors,
+    help="Speed benchmarks (printed ratios vs a baseline run in-process).",
+    no_args_is_help=True,
 )
 
 

@@ -21,6 +21,7 @@ from mimic.cli.common import (
     ROBOT,
     SAVE_OLD,
     WORLD,
+    OneLineUsageErrors,
     console,
     reports_errors,
     save_path,
@@ -29,6 +30,7 @@ from mimic.cli.executor_options import RAY, RAY_ADDRESS, WORKERS, open_executor
 from mimic.errors import MimicError
 
 trial_app = typer.Typer(
+    cls=OneLineUsageErrors,
     help="Run the kick, walk and get-up trials (original and learned side by side).",
     no_args_is_help=True,
 )
