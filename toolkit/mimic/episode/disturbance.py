@@ -113,7 +113,7 @@ class Disturbances:
 #: time (the NAO's walk engine and its other team's walk in our world; the T1 other team's
 #: walks in the league's physics), given over ``push_duration_s``. ``docs/disturbances.md``
 #: says how they were found.
-GAME_PUSH_SPEED_M_S = {"nao": 0.3, "t1": 0.04, "k1": 0.04}
+GAME_PUSH_SPEED_M_S = {"nao": 0.3, "t1": 0.05, "k1": 0.05}
 
 #: The levels ``--disturb`` names. ``game`` is what a game in the league has: robots start on
 #: any cycle, get pushed, and the grass and the robots are not the nominal ones; neither
