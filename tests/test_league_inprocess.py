@@ -222,6 +222,18 @@ def test_the_robot_can_be_put_down_lying(posture, side):
         np.testing.assert_allclose(poses.pos_m[torso], world.torso_pos_m(), atol=0.01)
 
 
+def test_a_robot_put_where_it_stands_is_turned_once_the_placement_returns():
+    # The position alone cannot tell a placement there from none: it used to return before
+    # the server carried it out, and the robot turned in whatever ran next.
+    with LeagueInProcessWorld("t1") as world:
+        world.reset()
+        stand = T1.stand_pose()
+        world.place_robot(-4.0, 0.0, math.radians(40), stand)
+        assert world.torso_yaw_rad() == pytest.approx(math.radians(40), abs=0.01)
+        world.place_robot(-4.0, 0.0, math.radians(-70), stand)
+        assert world.torso_yaw_rad() == pytest.approx(math.radians(-70), abs=0.01)
+
+
 def test_a_placed_ball_lies_where_it_was_put_and_the_referee_returns_one_over_a_line():
     with LeagueInProcessWorld("t1") as world:
         world.reset()

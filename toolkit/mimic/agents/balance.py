@@ -410,6 +410,13 @@ class BalancedAgent(Agent):
         )
         self.done = False
 
+    def resume(self, obs: Observation) -> None:
+        """The inner agent resumes; the layer keeps its start heading and line, so its
+        heading hold turns the robot back to them."""
+        self.inner.resume(obs)
+        self._reset_state(self._start_yaw, self._start_xy)
+        self.done = False
+
     # --- support foot ---------------------------------------------------------------------
     def _update_support(self, reference_rad: np.ndarray) -> bool:
         """Track the support leg from the knee references; True when it changed this cycle."""

@@ -60,6 +60,13 @@ class Agent(ABC):
     def reset(self, obs: Observation) -> None:
         """Start (or restart) the behaviour from the current observation."""
 
+    def resume(self, obs: Observation) -> None:
+        """Start again after an interruption within the same task (the robot fell and got
+        up): what it aims for stays, the rest starts afresh from ``obs``. A walk along a
+        course keeps the course (its start line and heading), so it turns back to it; an
+        agent that keeps nothing (the default) simply restarts (``reset``)."""
+        self.reset(obs)
+
     @abstractmethod
     def act(self, obs: Observation) -> JointCommand:
         """This cycle's joint command; sets ``done`` when finished."""

@@ -31,6 +31,10 @@ class NoisyCommands(Agent):
         self.inner.reset(obs)
         self.done = False
 
+    def resume(self, obs: Observation) -> None:
+        self.inner.resume(obs)
+        self.done = False
+
     def act(self, obs: Observation) -> JointCommand:
         command = self.inner.act(obs)
         self.done, self.reference_rad = self.inner.done, self.inner.reference_rad

@@ -19,7 +19,10 @@ them for one episode from the episode's seed and applies them:
   about one run in five, where no league game has robots of different builds);
 * **sensor noise**: what the agent perceives (not what the trial measures) gets normal noise on
   the joint angles [rad], the gyro [rad/s] and the torso's tilt (a rotation about a random
-  horizontal axis [rad]), drawn anew every cycle.
+  horizontal axis [rad]), drawn anew every cycle;
+* **a fall is not the end** (``get_up_after_fall``): as in a game, a walk run that falls gets
+  up and walks on (``Agent.resume``: the walk turns back to its course), so a fall costs the
+  run the time it costs a player, not the rest of the run.
 
 Every draw comes from its own generator, seeded from the episode seed and a fixed stream tag,
 so the scene's draws are the same with and without disturbances and ``none`` plays exactly as
@@ -76,10 +79,14 @@ class Disturbances:
     joint_noise_rad: float = 0.0
     gyro_noise_rad_s: float = 0.0
     tilt_noise_rad: float = 0.0
+    # A walk run that falls gets up and walks on to the finish (False: the fall ends it).
+    get_up_after_fall: bool = False
 
     def __post_init__(self) -> None:
         for f in fields(self):
             value = getattr(self, f.name)
+            if isinstance(value, bool):
+                continue
             if not (math.isfinite(value) and value >= 0):
                 raise ValueError(f"disturbance {f.name} must be finite and >= 0, got {value}")
         for name in ("friction_spread", "mass_spread"):
@@ -106,7 +113,7 @@ class Disturbances:
 #: time (the NAO's walk engine and its other team's walk in our world; the T1 other team's
 #: walks in the league's physics), given over ``push_duration_s``. ``docs/disturbances.md``
 #: says how they were found.
-GAME_PUSH_SPEED_M_S = {"nao": 0.3, "t1": 0.04, "k1": 0.04}
+GAME_PUSH_SPEED_M_S = {"nao": 0.3, "t1": 0.05, "k1": 0.05}
 
 #: The levels ``--disturb`` names. ``game`` is what a game in the league has: robots start on
 #: any cycle, get pushed, and the grass and the robots are not the nominal ones; neither
@@ -123,6 +130,7 @@ DISTURB_LEVELS: dict[str, Disturbances] = {
         push_duration_s=0.5,
         friction_spread=0.1,
         mass_spread=0.1,
+        get_up_after_fall=True,
     ),
 }
 DISTURB_LEVELS["hard"] = replace(
@@ -299,6 +307,9 @@ class NoisySensors(Agent):
 
     def reset(self, obs: Observation) -> None:
         self.inner.reset(self._noisy(obs))
+
+    def resume(self, obs: Observation) -> None:
+        self.inner.resume(self._noisy(obs))
 
     def act(self, obs: Observation) -> JointCommand:
         return self.inner.act(self._noisy(obs))

@@ -2,7 +2,10 @@
 
 In our world the course is the study's, from the own goal line to the centre line (15 m); in
 the league's (``config.world``, ``world.registry``) it is 10 m through the centre spot, from
-x = -5 m to x = 5 m of the league's field.
+x = -5 m to x = 5 m of the league's field. A fall ends the run, unless the trial's disturbance
+level says a game goes on (``Disturbances.get_up_after_fall``: ``game`` and ``hard``): then the
+robot gets up and walks on (``Agent.resume``: back to its course), and the run's speed counts
+the time its get-ups took.
 """
 
 from __future__ import annotations
@@ -29,6 +32,7 @@ from mimic.tasks.base import (
     first_value,
 )
 from mimic.world import field as F
+from mimic.world.base import CYCLE_S
 from mimic.world.registry import MUJOCO, get_world, open_world, world_kind
 
 __all__ = [
@@ -118,11 +122,24 @@ def _play_walk_episode(
     start = world.torso_pos_m()
     t0 = world.time_s
     disturb.pusher.arm(world)
-    outcome = episode.run(
-        disturb.agent(walk.build()),
-        max_s=config.timeout_s,
-        stop=lambda w: w.torso_pos_m()[0] >= finish_x,
-    )
+    agent = disturb.agent(walk.build())
+
+    def finished(w) -> bool:
+        return w.torso_pos_m()[0] >= finish_x
+
+    outcome = episode.run(agent, max_s=config.timeout_s, stop=finished)
+    getups = 0
+    # A game's fall costs the time to get up, then the walk goes on toward the finish.
+    while outcome == "fell" and disturb.spec.get_up_after_fall:
+        if not episode.get_up():
+            break  # still lying: the run ends here
+        getups += 1
+        left_s = t0 + config.timeout_s - world.time_s
+        if left_s < CYCLE_S:
+            outcome = "timeout"
+            break
+        agent.resume(world.observe())
+        outcome = episode.run(agent, max_s=left_s, stop=finished, reset=False)
     end = world.torso_pos_m()
     elapsed = world.time_s - t0
     distance = float(end[0] - start[0])
@@ -136,8 +153,9 @@ def _play_walk_episode(
         y_end_m=float(end[1]),
         heading_error_deg=math.degrees(abs(world.torso_yaw_rad())),
         finished=outcome == "stop",
-        fell=outcome == "fell",
+        fell=outcome == "fell" or getups > 0,
         falls=falls.falls,
+        getups=getups,
         world=world_kind(config.world),
         end={"stop": "finished", "fell": "fell", "timeout": "timeout", "done": "agent stopped"}[
             outcome
@@ -160,7 +178,7 @@ class WalkRun:
     walk_time_s: float
     # Forward progress along x [m].
     distance_m: float
-    # distance_m / walk_time_s [m/s].
+    # distance_m / walk_time_s [m/s] (the time of any get-up included).
     speed_m_s: float
     # Sideways distance from the start [m], and the torso's y at the end [m].
     y_error_m: float
@@ -169,10 +187,13 @@ class WalkRun:
     heading_error_deg: float
     # Crossed the finish line.
     finished: bool
+    # Fell at least once (the run ended there, or the robot got up and walked on).
     fell: bool
     falls: int
+    # Times it got up and walked on (``Disturbances.get_up_after_fall``).
+    getups: int
     world: str
-    # finished, fell, timeout or agent stopped.
+    # finished, fell (lying at the end), timeout or agent stopped.
     end: str
     # The episode's disturbance draw (``EpisodeDisturbances.columns``).
     disturbances: dict
@@ -274,7 +295,8 @@ class WalkTask(TrialTask):
     legend = (
         "95% CI: 95 % confidence interval of the means (t, +- half width) and of the share "
         "of runs that fell (Wilson). Ratios: against the first variant, with their 95 % "
-        "interval (delta method, runs paired by seed)."
+        "interval (delta method, runs paired by seed). A run that falls ends there "
+        "(--disturb none) or gets up and walks on (game, hard)."
     )
     ratio_columns = ("mean_speed_m_s", "std_speed_m_s", "mean_y_error_m", "std_y_error_m")
     ratio_sources = {"mean_speed_m_s": "speed_m_s"}

@@ -168,6 +168,9 @@ class LeagueInProcessWorld(PerceivedRobot, World):
         self._last_reference, self._last_targets = b"", None  # the last reference's bytes
         self._pending: np.ndarray | None = None  # targets [rad] of the next cycle
         self._pending_commands: list = []  # monitor commands carried out with them
+        # The last cycle carried out monitor commands: its perception (read by the sensors in
+        # its physics step, before them, as a server's) does not show them yet.
+        self._perceived_before_commands = False
         self._queued: list = []  # monitor commands asked for since the last step
         self._ball_target: np.ndarray | None = None  # until the last placement is carried out
         self._ball_command: object | None = None
@@ -257,6 +260,11 @@ class LeagueInProcessWorld(PerceivedRobot, World):
         self._monitor(place_player_command(self.team, self.player, (x_m, y_m, z), quat))
         self._hold_until_placed(x_m, y_m, pose, "rcsssmj")
 
+    def _placing(self) -> bool:
+        # Monitor commands act in the cycle after the one they were queued in, and the
+        # perception shows them one cycle later.
+        return bool(self._queued or self._pending_commands or self._perceived_before_commands)
+
     def place_ball(self, x_m: float, y_m: float) -> None:
         pos = np.array([x_m, y_m, self.field.ball_radius_m])
         (self._ball_command,) = self._monitor(place_ball_command(pos))
@@ -300,6 +308,7 @@ class LeagueInProcessWorld(PerceivedRobot, World):
                 self._set_motors()
             d.ctrl[self._pos_ids] = self._pending
         commands = self._pending_commands
+        self._perceived_before_commands = bool(commands)
         self._sim.step(commands)
         if commands:
             self._pending_commands = []

@@ -39,9 +39,14 @@ class PerceivedRobot:
             ball_pos_m=ball_pos_m,
         )
 
+    def _placing(self) -> bool:
+        """A placement asked for is not carried out yet (as far as this world can tell)."""
+        return False
+
     def _hold_until_placed(self, x_m: float, y_m: float, pose: np.ndarray, who: str) -> None:
         """Hold ``pose`` until the torso is within the config's tolerance of (``x_m``,
-        ``y_m``) [m, field frame], the placement ``who`` (the server) carries out.
+        ``y_m``) [m, field frame], the placement ``who`` (the server) carries out, and no
+        placement waits (a robot put where it stands is there before it is put).
 
         Raises:
             LeagueError: not there within the config's ``place_timeout_s``.
@@ -52,6 +57,7 @@ class PerceivedRobot:
             if (
                 np.hypot(*(self._perception.torso_pos_m[:2] - (x_m, y_m)))
                 < self.config.place_tolerance_m
+                and not self._placing()
             ):
                 return
         raise LeagueError(

@@ -100,6 +100,12 @@ class OtherTeamWalk(Agent):
         )
         self.done = False
 
+    def resume(self, obs: Observation) -> None:
+        """Start walking again from ``obs`` on the same line (start line and heading): the
+        heading hold turns the robot back to it."""
+        self._reset_state(obs.joint_angles_rad, self._heading_rad, self._start_xy_m)
+        self.done = False
+
     # --- gait -----------------------------------------------------------------------------
     def _support(self, step_index: int) -> float:
         """Support side of a step: the left foot (+1) carries the even steps."""

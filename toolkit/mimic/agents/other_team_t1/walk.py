@@ -150,6 +150,12 @@ class OtherTeamT1Walk(Agent):
         )
         self.done = False
 
+    def resume(self, obs: Observation) -> None:
+        """Start walking again from ``obs`` on the same line (start line and heading): the
+        heading hold turns the robot back to it."""
+        self._reset_state(obs.joint_angles_rad, self._heading_rad, self._start_xy_m)
+        self.done = False
+
     # --- the plan -------------------------------------------------------------------------
     def _support(self, n: int) -> float:
         """The support foot of step ``n``: the left (+1) carries the even steps."""

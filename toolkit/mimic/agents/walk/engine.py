@@ -127,7 +127,7 @@ class WalkEngine(Agent):
         """
         velocity = (float(vx_m_s), float(vy_m_s), float(yaw_rate_rad_s))
         if velocity[2] != self._velocity[2] or velocity[1] != self._velocity[1]:
-            self._line = None  # a new path: hold the line from where the robot is
+            self._line = self._resume_line = None  # a new path: a line from where it is
         self._velocity = velocity
         self._stop_requested = False
         if self._state in ("halting", "standing"):
@@ -165,6 +165,17 @@ class WalkEngine(Agent):
     # --- agent ----------------------------------------------------------------------------
     def reset(self, obs: Observation) -> None:
         """Re-initialise from the current pose (e.g. after a get-up): blend into the walk."""
+        self._restart(obs)
+
+    def resume(self, obs: Observation) -> None:
+        """As ``reset``, but a straight walk keeps the line it held (its start and heading):
+        once walking again, it turns back to it. (A walk stopped before it held one starts a
+        new line, as after ``reset``.)"""
+        line = self._line
+        self._restart(obs)
+        self._resume_line = line
+
+    def _restart(self, obs: Observation) -> None:
         self._init_state(obs.joint_angles_rad)
         if self._stop_requested and not any(self._velocity):
             self._begin("halting")
@@ -192,6 +203,8 @@ class WalkEngine(Agent):
         self._start_pose = None  # (plan, lean, pose): see _start_target
         self._heading_rad = None
         self._line = None
+        # The line to take up again once walking (``resume``); None: a new one.
+        self._resume_line: tuple[float, float, float] | None = None
         # cos and sin of the torso yaw over the last gait period (two steps).
         self._yaw_means = RecentMeans(2, 2 * cfg.step_cycles)
         # Odometry: torso positions of the last gait period (walking only), the step
@@ -313,7 +326,8 @@ class WalkEngine(Agent):
         self._aim_rad = self._heading_rad
         if cfg.line_gain and vy == 0.0 and yaw_rate == 0.0:
             if self._line is None:
-                self._line = (pos[0], pos[1], self._heading_rad)
+                resumed, self._resume_line = self._resume_line, None
+                self._line = resumed or (pos[0], pos[1], self._heading_rad)
             x0, y0, h = self._line
             c, s = math.cos(h), math.sin(h)
             offset = -s * (pos[0] - x0) + c * (pos[1] - y0)
