@@ -22,15 +22,18 @@ processes of the README's league block: the motion played on a server while ``mi
    command delay), the NAO's in ours (``--validate 0``: the trial below is the validation).
    The objective scores runs that stay down in stages (how high the torso rose, how far it
    turned to face the ground, how long it was upright), so the T1's back copy, which sits
-   up and falls back as compensated, is searched into rolling onto its front; the first
-   search ends at the front get-up's kneel-sit, so it gets a second search over the rest
-   only: ``mimic improve IMPROVED.mimic --window A,END --budget 150 --seed 4`` (A: where the
-   roll ends, ``ROLL_END_S`` of the recording, in the improved copy's time).
+   up and falls back as compensated, is searched into rolling onto its front. It then gets a
+   chain (docs/getups.md, "The stand window placed by the copy's own runs"): a second
+   whole-motion search (``--seed 5``), which brings it to standing height, then a search over
+   the stand alone, ``mimic improve AGAIN.mimic --window auto --seed 4``: the window from
+   just before the copy is first upright in its own runs (or highest, if never upright) to
+   its end, placed by ``mimic improve`` itself. Each search: ``--budget`` evaluations.
 4. ``mimic trial getup --compare ORIGINAL REACHED COMPENSATED IMPROVED --runs R --seed S``:
    the T1 in the league's simulation (``--world league``) and in ours, the NAO in ours.
 
-Seeds: development used trial seed 0 and improve seed 3; the reported tables use ``--seed``
-(default 1000), whose episodes nothing in development played.
+Seeds: development used trial seed 0 (the T1's back get-up: league-like trial seeds 0-5) and
+improve seeds 3-5; the reported tables use ``--seed`` (default 1000), whose episodes nothing
+in development played.
 """
 
 from __future__ import annotations
@@ -42,15 +45,12 @@ from shared import mimic, record_black_box
 
 from mimic.agents.registry import agent_spec
 from mimic.episode import Scene
-from mimic.model.keys import CORRECTION_KEY
-from mimic.model.model_file import load_model
 
 #: Longest a get-up plays while recorded [s] (the T1's back get-up takes 10.3 s).
 PLAY_S = 14.0
-#: The improve search's seed (development), and the windowed search's.
-IMPROVE_SEED, WINDOW_SEED = 3, 4
-#: Where the T1's back get-up has rolled onto its front: its front get-up starts [s].
-ROLL_END_S = 4.4
+#: The improve search's seed (development), the stand window's and the second whole-motion
+#: search's (the T1's back get-up).
+IMPROVE_SEED, WINDOW_SEED, AGAIN_SEED = 3, 4, 5
 
 
 def record(robot: str, side: str, out: Path) -> tuple[Path, float]:
@@ -66,7 +66,9 @@ def record(robot: str, side: str, out: Path) -> tuple[Path, float]:
     return path, 0.0  # our recorder stops when the motion ends
 
 
-def learn(robot: str, side: str, rec: Path, end_s: float, out: Path, budget: int) -> list[str]:
+def learn(
+    robot: str, side: str, rec: Path, end_s: float, out: Path, budget: int, workers: int
+) -> list[str]:
     """The copies: reached, compensated, compensated and improved; their files."""
     window = ["--end", str(end_s)] if end_s else []
     topic = [] if robot == "t1" else ["--topic", "/joint_states"]
@@ -77,7 +79,7 @@ def learn(robot: str, side: str, rec: Path, end_s: float, out: Path, budget: int
     world = "league-like" if robot == "t1" else "mujoco"
     search = [
         "--objective", "getup", "--robot", robot, "--world", world, "--episodes", "4",
-        "--validate", "0",
+        "--validate", "0", "--workers", str(workers),
     ]  # fmt: skip
     mimic(
         "improve", str(compensated), *search, "--budget", str(budget), "--seed",
@@ -85,15 +87,18 @@ def learn(robot: str, side: str, rec: Path, end_s: float, out: Path, budget: int
     )  # fmt: skip
     copies = [str(reached), str(compensated), str(improved)]
     if robot == "t1" and side == "back":
-        model = load_model(improved)
-        rate = model.metadata.get(CORRECTION_KEY, {}).get("rate", 1.0)
-        window = f"{ROLL_END_S / rate:.2f},{model.duration_s:.2f}"
-        windowed = out / f"{robot}_{side}_improved_window.mimic"
+        again = out / f"{robot}_{side}_improved_again.mimic"
+        stand = out / f"{robot}_{side}_improved_stand.mimic"
         mimic(
-            "improve", str(improved), *search, "--window", window, "--budget", "150",
-            "--seed", str(WINDOW_SEED), "-o", str(windowed), "--force",
+            "improve", str(improved), *search, "--budget", str(budget), "--seed",
+            str(AGAIN_SEED), "-o", str(again), "--force",
         )  # fmt: skip
-        copies.append(str(windowed))
+        lines = mimic(
+            "improve", str(again), *search, "--window", "auto", "--budget", str(budget),
+            "--seed", str(WINDOW_SEED), "-o", str(stand), "--force",
+        )  # fmt: skip
+        print("\n".join(line for line in lines if line.startswith("--window auto")), flush=True)
+        copies += [str(again), str(stand)]
     return copies
 
 
@@ -122,7 +127,7 @@ def main() -> None:
         for side in args.side or ("front", "back"):
             rec, end_s = record(robot, side, args.out)
             print(f"recorded {robot} getup_{side}: {rec} (window 0-{end_s or 'end'} s)")
-            copies = learn(robot, side, rec, end_s, args.out, args.budget)
+            copies = learn(robot, side, rec, end_s, args.out, args.budget, args.workers)
             worlds = ("league", "mujoco") if robot == "t1" else ("mujoco",)
             for world in worlds:
                 trial(robot, side, copies, world, args, args.out)

@@ -296,3 +296,25 @@ def test_the_getup_trial_says_how_far_the_torso_turned_and_how_long_it_stood():
     assert row["stood"]
     stood_for_s = row["duration_s"] - config.settle_s - row["time_to_stand_s"]
     assert row["upright_s"] == pytest.approx(stood_for_s, abs=0.05)
+
+
+def test_the_stand_window_starts_just_before_the_copy_is_first_upright():
+    """``mimic improve --window auto``: played in the trial, our NAO's back get-up lies, rolls
+    and is first upright a while before it has stood for good; the window starts the fade-in's
+    length before the first upright cycle and runs to the motion's end."""
+    from mimic.agents.registry import agent_spec
+    from mimic.improve.stand_window import STAND_LEAD_S, stand_window
+    from mimic.tasks.getup import GetupTrialConfig, run_getup_episode
+    from mimic.trials.parallel import derive_seed
+
+    spec, config = agent_spec("getup_back"), GetupTrialConfig()
+    duration_s = spec.build().movement.duration_s
+    placed = stand_window(spec, duration_s, config, seed=7, runs=1)
+    (row,), _ = run_getup_episode(spec, derive_seed(7, 0), config)
+    assert row["stood"] and placed.upright_runs == placed.runs == 1
+    assert placed.stand_s == row["first_upright_s"]
+    # Upright only once the torso has risen from the ground, at the latest when it stays up.
+    assert 1.0 < placed.stand_s <= row["time_to_stand_s"]
+    assert placed.start_s == pytest.approx(placed.stand_s - STAND_LEAD_S, abs=0.006)
+    assert placed.end_s == duration_s
+    assert "--window auto: " in placed.describe()

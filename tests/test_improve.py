@@ -353,6 +353,21 @@ def test_a_model_inside_the_balance_layer_searches_its_gains_and_its_file_keeps_
             + ["--success-m", "-1"],
             "--success-m must be a finite number >= 0",
         ),
+        (
+            ["kick_right", "--objective", "kick", "--budget", "4", "-o", "x.txt"]
+            + ["--window", "soon"],
+            "--window takes START,END in seconds (e.g. 4.3,10.3) or auto",
+        ),
+        (
+            ["kick_right", "--objective", "kick", "--budget", "4", "-o", "x.txt"]
+            + ["--window", "auto"],
+            "--window auto places a get-up's stand window; it needs --objective getup",
+        ),
+        (
+            ["getup_back", "--objective", "getup", "--budget", "4", "-o", "x.txt"]
+            + ["--window", "auto"],
+            "--window corrects a learned model (.mimic), not 'getup_back'",
+        ),
     ],
 )
 def test_bad_input_is_one_clear_line(args, message, tmp_path, monkeypatch):
