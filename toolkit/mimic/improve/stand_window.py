@@ -53,12 +53,15 @@ class StandWindow:
 
     def describe(self) -> str:
         """One line: the window and why."""
-        what = (
-            f"first upright at {self.stand_s:.2f} s"
-            if self.upright_runs == self.runs
-            else f"first upright (or highest, where never upright: {self.runs - self.upright_runs}"
-            f" of {self.runs}) at {self.stand_s:.2f} s"
-        )
+        if self.upright_runs == self.runs:
+            what = f"first upright at {self.stand_s:.2f} s"
+        elif self.upright_runs == 0:
+            what = f"never upright; torso highest at {self.stand_s:.2f} s"
+        else:
+            what = (
+                f"first upright, or highest in the {self.runs - self.upright_runs} runs never "
+                f"upright, at {self.stand_s:.2f} s"
+            )
         return (
             f"--window auto: {self.start_s:.2f},{self.end_s:.2f} s ({what}, median of "
             f"{self.runs} runs)"
