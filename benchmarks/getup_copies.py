@@ -24,10 +24,11 @@ processes of the README's league block: the motion played on a server while ``mi
    turned to face the ground, how long it was upright), so the T1's back copy, which sits
    up and falls back as compensated, is searched into rolling onto its front. It then gets a
    chain (docs/getups.md, "The stand window placed by the copy's own runs"): a second
-   whole-motion search (``--seed 5``), which brings it to standing height, then a search over
-   the stand alone, ``mimic improve AGAIN.mimic --window auto --seed 4``: the window from
-   just before the copy is first upright in its own runs (or highest, if never upright) to
-   its end, placed by ``mimic improve`` itself. Each search: ``--budget`` evaluations.
+   whole-motion search (``--seed 5``; it brought recording C's copy upright, not R1's or
+   R2's), then a search over the stand alone, ``mimic improve AGAIN.mimic --window auto
+   --seed 4``: the window from just before the copy is first upright in its own runs (or
+   highest, if never upright) to its end, placed by ``mimic improve`` itself. Each search:
+   ``--budget`` evaluations.
 4. ``mimic trial getup --compare ORIGINAL REACHED COMPENSATED IMPROVED --runs R --seed S``:
    the T1 in the league's simulation (``--world league``) and in ours, the NAO in ours.
 
