@@ -318,3 +318,37 @@ def test_the_stand_window_starts_just_before_the_copy_is_first_upright():
     assert placed.start_s == pytest.approx(placed.stand_s - STAND_LEAD_S, abs=0.006)
     assert placed.end_s == duration_s
     assert "--window auto: " in placed.describe()
+
+
+def test_improve_places_the_window_of_a_copy_that_never_stands_before_its_highest(tmp_path):
+    """``improve(..., window_s="auto")`` on a learned get-up that lies and stirs but never
+    gets up (the fake recording's copy, played in the league-like world): the window starts
+    the fade-in's length before the torso was highest, runs to the end, and the model written
+    is corrected in that window."""
+    from mimic.improve import improve
+    from mimic.improve.objectives import make_objective
+    from mimic.improve.stand_window import STAND_LEAD_S
+    from mimic.model.model_file import load_model, save_model
+
+    rec, path = tmp_path / "seen.mcap", tmp_path / "copy.mimic"
+    _black_box_getup(rec)
+    ds = training_dataset(rec, L.JOINT_STATES, "reached", start_s=0.4, end_s=3.2)
+    save_model(train_model(ds, TrainConfig(epochs=50)), path)
+    run = improve(
+        str(path),
+        objective=make_objective("getup", 1),
+        budget=4,
+        population=4,
+        out=tmp_path / "stand.mimic",
+        window_s="auto",
+        world="league-like",
+        workers=1,
+    )
+    placed = run.stand_window
+    assert placed.runs == 1 and placed.upright_runs == 0
+    assert 0.0 < placed.stand_s and placed.start_s == pytest.approx(
+        max(0.0, placed.stand_s - STAND_LEAD_S), abs=0.006
+    )
+    written = load_model(run.out)
+    assert written.metadata["correction"]["window_s"][0] == placed.start_s
+    assert "never upright" in placed.describe()

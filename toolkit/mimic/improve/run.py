@@ -114,8 +114,9 @@ def improve(
     alike; ``robot`` (default: the NAO in ours, the T1 in the league's; a model file says its
     own) is whose motion or engine a name means. ``window_s`` (a learned one-shot model):
     its offsets and gains act only within that window [s of the motion]; ``"auto"`` (a get-up
-    objective): the stand window, from just before the copy as it is is first upright to its
-    end (``improve.stand_window``, played on the search's first episodes before it starts).
+    objective): the stand window, from just before the copy (as it is) is first upright to
+    its end (``improve.stand_window``, played on the search's first episodes before it
+    starts; ``run.stand_window`` says where and why).
 
     Raises:
         MimicError: bad target, objective, budget, out suffix, checkpoint, Ray address, world,
@@ -211,7 +212,7 @@ def improve(
         parameters=tgt.space.describe(z),
     )
     tgt.write(z, out, provenance)
-    run = ImproveRun(tgt, obj, result, out, z=z, search_wall_s=search_wall_s)
+    run = ImproveRun(tgt, obj, result, out, z=z, search_wall_s=search_wall_s, stand_window=placed)
     if validation_episodes:
         improved = tgt.spec(z, label=f"{tgt.label} (improved)")
         start = time.perf_counter()
