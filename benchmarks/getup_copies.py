@@ -25,17 +25,21 @@ processes of the README's league block: the motion played on a server while ``mi
    ``--validate 0``: the trial below is the validation).
    The objective scores runs that stay down in stages (how high the torso rose, how far it
    turned to face the ground, how long it was upright), so the T1's back copy, which sits
-   up and falls back as compensated, is searched into rolling onto its front; the first
-   search ends at the front get-up's kneel-sit, so it gets a second search over the rest
-   only: ``mimic improve IMPROVED.mimic --window A,END --budget 150 --seed 4`` (A: where the
-   roll ends, ``ROLL_END_S`` of the recording, in the improved copy's time).
+   up and falls back as compensated, is searched into rolling onto its front. It then gets a
+   chain (docs/getups.md, "The stand window placed by the copy's own runs"): a second
+   whole-motion search (``--seed 5``; it brought recording C's copy upright, not R1's or
+   R2's), then a search over the stand alone, ``mimic improve AGAIN.mimic --window auto
+   --seed 4``: the window from just before the copy is first upright in its own runs (or
+   highest, if never upright) to its end, placed by ``mimic improve`` itself. Each search:
+   ``--budget`` evaluations.
 4. ``mimic trial getup --compare ORIGINAL REACHED COMPENSATED IMPROVED --runs R --seed S``:
    the T1 in the league's simulation (``--world league``) and in ours, the NAO in ours; one
    table per ``--seed`` given (the copies are learned once).
 
-Seeds: development used trial seeds 0-999 and improve seed 3 (the NAO's search settings:
-improve seed 11 too); the reported tables use ``--seed`` (default 1000; docs/getups.md says
-which seeds were reported), whose episodes nothing in development played.
+Seeds: development used trial seeds 0-999 (the T1's back get-up: league-like trial seeds 0-5)
+and improve seeds 3-5 (the NAO's search settings: improve seed 11 too); the reported tables use
+``--seed`` (default 1000; docs/getups.md says which seeds were reported), whose episodes nothing
+in development played.
 """
 
 from __future__ import annotations
@@ -47,13 +51,12 @@ from shared import mimic, record_black_box
 
 from mimic.agents.registry import agent_spec
 from mimic.episode import Scene
-from mimic.model.keys import CORRECTION_KEY
-from mimic.model.model_file import load_model
 
 #: Longest a get-up plays while recorded [s] (the T1's back get-up takes 10.3 s).
 PLAY_S = 14.0
-#: The improve search's seed (development), and the windowed search's.
-IMPROVE_SEED, WINDOW_SEED = 3, 4
+#: The improve search's seed (development), the stand window's and the second whole-motion
+#: search's (the T1's back get-up).
+IMPROVE_SEED, WINDOW_SEED, AGAIN_SEED = 3, 4, 5
 #: The improve search per robot: (episodes per candidate, default budget, what it writes).
 #: The NAO's copies fall back from their squat in 5-15 % of runs as compensated, which 4
 #: episodes cannot tell apart, and the best candidate of many that stood in all their
@@ -61,8 +64,6 @@ IMPROVE_SEED, WINDOW_SEED = 3, 4
 #: candidate on 16 episodes and writes the optimiser's final mean (docs/getups.md); its
 #: episodes are cheap (0.1-0.3 s each).
 SEARCH = {"t1": (4, 100, "best"), "nao": (16, 200, "mean")}
-#: Where the T1's back get-up has rolled onto its front: its front get-up starts [s].
-ROLL_END_S = 4.4
 
 
 def record(robot: str, side: str, out: Path) -> tuple[Path, float]:
@@ -101,15 +102,18 @@ def learn(
     )  # fmt: skip
     copies = [str(reached), str(compensated), str(improved)]
     if robot == "t1" and side == "back":
-        model = load_model(improved)
-        rate = model.metadata.get(CORRECTION_KEY, {}).get("rate", 1.0)
-        window = f"{ROLL_END_S / rate:.2f},{model.duration_s:.2f}"
-        windowed = out / f"{robot}_{side}_improved_window.mimic"
+        again = out / f"{robot}_{side}_improved_again.mimic"
+        stand = out / f"{robot}_{side}_improved_stand.mimic"
         mimic(
-            "improve", str(improved), *search, "--window", window, "--budget", "150",
-            "--seed", str(WINDOW_SEED), "-o", str(windowed), "--force",
+            "improve", str(improved), *search, "--budget", str(budget), "--seed",
+            str(AGAIN_SEED), "-o", str(again), "--force",
         )  # fmt: skip
-        copies.append(str(windowed))
+        lines = mimic(
+            "improve", str(again), *search, "--window", "auto", "--budget", str(budget),
+            "--seed", str(WINDOW_SEED), "-o", str(stand), "--force",
+        )  # fmt: skip
+        print("\n".join(line for line in lines if line.startswith("--window auto")), flush=True)
+        copies += [str(again), str(stand)]
     return copies
 
 

@@ -296,3 +296,59 @@ def test_the_getup_trial_says_how_far_the_torso_turned_and_how_long_it_stood():
     assert row["stood"]
     stood_for_s = row["duration_s"] - config.settle_s - row["time_to_stand_s"]
     assert row["upright_s"] == pytest.approx(stood_for_s, abs=0.05)
+
+
+def test_the_stand_window_starts_just_before_the_copy_is_first_upright():
+    """``mimic improve --window auto``: played in the trial, our NAO's back get-up lies, rolls
+    and is first upright a while before it has stood for good; the window starts the fade-in's
+    length before the first upright cycle and runs to the motion's end."""
+    from mimic.agents.registry import agent_spec
+    from mimic.improve.stand_window import STAND_LEAD_S, stand_window
+    from mimic.tasks.getup import GetupTrialConfig, run_getup_episode
+    from mimic.trials.parallel import derive_seed
+
+    spec, config = agent_spec("getup_back"), GetupTrialConfig()
+    duration_s = spec.build().movement.duration_s
+    placed = stand_window(spec, duration_s, config, seed=7, runs=1)
+    (row,), _ = run_getup_episode(spec, derive_seed(7, 0), config)
+    assert row["stood"] and placed.upright_runs == placed.runs == 1
+    assert placed.stand_s == row["first_upright_s"]
+    # Upright only once the torso has risen from the ground, at the latest when it stays up.
+    assert 1.0 < placed.stand_s <= row["time_to_stand_s"]
+    assert placed.start_s == pytest.approx(placed.stand_s - STAND_LEAD_S, abs=0.006)
+    assert placed.end_s == duration_s
+    assert "--window auto: " in placed.describe()
+
+
+def test_improve_places_the_window_of_a_copy_that_never_stands_before_its_highest(tmp_path):
+    """``improve(..., window_s="auto")`` on a learned get-up that lies and stirs but never
+    gets up (the fake recording's copy, played in the league-like world): the window starts
+    the fade-in's length before the torso was highest, runs to the end, and the model written
+    is corrected in that window."""
+    from mimic.improve import improve
+    from mimic.improve.objectives import make_objective
+    from mimic.improve.stand_window import STAND_LEAD_S
+    from mimic.model.model_file import load_model, save_model
+
+    rec, path = tmp_path / "seen.mcap", tmp_path / "copy.mimic"
+    _black_box_getup(rec)
+    ds = training_dataset(rec, L.JOINT_STATES, "reached", start_s=0.4, end_s=3.2)
+    save_model(train_model(ds, TrainConfig(epochs=50)), path)
+    run = improve(
+        str(path),
+        objective=make_objective("getup", 1),
+        budget=4,
+        population=4,
+        out=tmp_path / "stand.mimic",
+        window_s="auto",
+        world="league-like",
+        workers=1,
+    )
+    placed = run.stand_window
+    assert placed.runs == 1 and placed.upright_runs == 0
+    assert 0.0 < placed.stand_s and placed.start_s == pytest.approx(
+        max(0.0, placed.stand_s - STAND_LEAD_S), abs=0.006
+    )
+    written = load_model(run.out)
+    assert written.metadata["correction"]["window_s"][0] == placed.start_s
+    assert "never upright" in placed.describe()

@@ -353,6 +353,21 @@ def test_a_model_inside_the_balance_layer_searches_its_gains_and_its_file_keeps_
             + ["--success-m", "-1"],
             "--success-m must be a finite number >= 0",
         ),
+        (
+            ["kick_right", "--objective", "kick", "--budget", "4", "-o", "x.txt"]
+            + ["--window", "soon"],
+            "--window takes START,END in seconds (e.g. 4.3,10.3) or auto",
+        ),
+        (
+            ["kick_right", "--objective", "kick", "--budget", "4", "-o", "x.txt"]
+            + ["--window", "auto"],
+            "--window auto places a get-up's stand window; it needs --objective getup",
+        ),
+        (
+            ["getup_back", "--objective", "getup", "--budget", "4", "-o", "x.txt"]
+            + ["--window", "auto"],
+            "--window corrects a learned model (.mimic), not 'getup_back'",
+        ),
     ],
 )
 def test_bad_input_is_one_clear_line(args, message, tmp_path, monkeypatch):
@@ -493,3 +508,36 @@ def test_improve_plays_in_the_league_world(tmp_path):
             robot="t1",
             out=tmp_path / "x.mimic",
         )
+
+
+def test_a_second_window_corrects_the_first_windowed_model_and_its_file_keeps_both(tmp_path):
+    """A model corrected in one window (the T1 back get-up's rise) takes a second on top (its
+    stand), in the first's played time; the file loads back to the same references; a
+    whole-motion correction of it is refused in one line."""
+    from mimic.model.windowed import WindowedModel
+
+    path = save_model(_tiny_model(), tmp_path / "kick.mimic")
+    first = load_target(str(path), window_s=(0.2, 0.8))
+    knee = first.model.joint_names.index("right_knee_pitch")
+    z = np.zeros(first.space.dim)
+    z[0] = 5.0  # time_rate 1.25 from 0.2 s on
+    z[first.space.names.index("offset.right_knee_pitch")] = 3.0  # 0.09 rad
+    once = tmp_path / "once.mimic"
+    first.write(z, once, {"objective": "test"})
+    inner = load_model(once)
+    second = load_target(str(once), window_s=(0.9, 1.1))
+    z2 = np.zeros(second.space.dim)
+    z2[second.space.names.index("offset.right_knee_pitch")] = -2.0  # -0.06 rad
+    twice = tmp_path / "twice.mimic"
+    second.write(z2, twice, {"objective": "test"})
+    both = load_model(twice)
+    assert isinstance(both, WindowedModel) and isinstance(both.inner, WindowedModel)
+    assert both.duration_s == pytest.approx(inner.duration_s)  # no warp in the second
+    t = np.array([0.1, 0.5, 0.85, 1.0, 1.3])
+    shift = both.predict(t)[:, knee] - inner.predict(t)[:, knee]
+    assert np.allclose(shift, [0.0, 0.0, 0.0, -0.06, 0.0], atol=1e-9)
+    grid = np.linspace(0.0, both.duration_s, 41)
+    assert np.allclose(both.predict(grid), second.spec(z2).model.predict(grid), atol=1e-9)
+    assert both.metadata["correction"]["previous"]["window_s"] == [0.2, 0.8]
+    with pytest.raises(MimicError, match="corrected in a window"):
+        load_target(str(twice))

@@ -121,7 +121,9 @@ def _improve(
             metavar="START,END",
             help="A learned one-shot model: its offsets and gains act only from START to END "
             "(seconds of the motion), and its time warp from START on, e.g. where the copy fails "
-            "(the model file keeps the network as learned and the correction, exact).",
+            "(the model file keeps the network as learned and the correction, exact). auto "
+            "(--objective getup): the stand window, from just before the copy is first upright "
+            "(or highest) in its own runs to its end.",
         ),
     ] = None,
     pick: Annotated[
@@ -209,6 +211,9 @@ def _improve(
             f"generation, {obj.episodes} {obj.name} episodes per evaluation",
             highlight=False,
         )
+        if getattr(tgt, "window_s", None) is not None:
+            lo, hi = tgt.window_s
+            console.print(f"correction window: {lo:.2f}-{hi:.2f} s of the motion", highlight=False)
 
     workers = check_workers(workers, ray or bool(ray_address))
     try:  # improve() checks every input before it starts workers
@@ -248,6 +253,8 @@ def _improve(
         f"{resumed}; best score {score:.4g} (generation {generation})",
         highlight=False,
     )
+    if run.stand_window is not None:
+        console.print(run.stand_window.describe(), highlight=False)
     console.print(f"wrote {run.out}")
     if run.validation is not None:
         _print(
@@ -322,14 +329,14 @@ def register(app: typer.Typer) -> None:
     bench_app.command("scaling")(reports_errors(_bench_scaling))
 
 
-def _window(text: str | None) -> tuple[float, float] | None:
-    """``--window START,END`` as two times [s]; one line for anything else."""
-    if text is None:
-        return None
+def _window(text: str | None) -> tuple[float, float] | str | None:
+    """``--window START,END`` as two times [s], or ``auto``; one line for anything else."""
+    if text is None or text == "auto":
+        return text
     try:
         lo, hi = (float(v) for v in text.split(","))
     except ValueError:
         raise MimicError(
-            f"--window takes START,END in seconds, e.g. 4.3,10.3; got {text!r}"
+            f"--window takes START,END in seconds (e.g. 4.3,10.3) or auto; got {text!r}"
         ) from None
     return lo, hi

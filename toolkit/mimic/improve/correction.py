@@ -116,11 +116,11 @@ def windowed_model(
 ) -> WindowedModel:
     """``model`` played ``rate`` times faster from the window's start on, with per-joint
     offsets and gains (as ``corrected_model``'s) only within ``window_s`` [s of the motion
-    as learned]; before the window it plays as learned."""
+    as learned]; before the window it plays as learned. A model corrected in a window
+    already takes a second window on top (in its played time; e.g. the T1 back get-up's
+    rise, then its stand)."""
     if model.cyclic:
         raise ValueError("a windowed correction is for one-shot motions (a cyclic one: none)")
-    if isinstance(model, WindowedModel):
-        raise ValueError("a model with a windowed correction takes no second one")
     if not rate > 0:
         raise ValueError(f"time warp rate must be > 0, got {rate}")
     n = model.num_joints

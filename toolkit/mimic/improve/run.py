@@ -13,6 +13,7 @@ from mimic.agents.registry import agent_spec
 from mimic.errors import MimicError
 from mimic.improve.objectives import make_objective
 from mimic.improve.search import SearchConfig, SearchResult, default_population, search
+from mimic.improve.stand_window import AUTO, StandWindow, stand_window
 from mimic.improve.targets import Target, load_target
 from mimic.improve.validation import validate
 from mimic.tasks.registry import get_task
@@ -49,6 +50,8 @@ class ImproveRun:
     start_score: float | None = None
     improved_score: float | None = None
     kept_start: bool = False
+    # ``--window auto``: the stand window placed (``improve.stand_window``).
+    stand_window: StandWindow | None = None
 
     @property
     def validated_worse(self) -> bool:
@@ -76,7 +79,7 @@ def improve(
     sigma: float = 1.0,
     population: int | None = None,
     joints: str = "legs",
-    window_s: tuple[float, float] | None = None,
+    window_s: tuple[float, float] | str | None = None,
     pick: str = "best",
     validation_episodes: int = 0,
     references: tuple[str, ...] = (),
@@ -110,7 +113,10 @@ def improve(
     objective's trial settings, ours) is where every episode plays, search and validation
     alike; ``robot`` (default: the NAO in ours, the T1 in the league's; a model file says its
     own) is whose motion or engine a name means. ``window_s`` (a learned one-shot model):
-    its offsets and gains act only within that window [s of the motion].
+    its offsets and gains act only within that window [s of the motion]; ``"auto"`` (a get-up
+    objective): the stand window, from just before the copy (as it is) is first upright to
+    its end (``improve.stand_window``, played on the search's first episodes before it
+    starts; ``run.stand_window`` says where and why).
 
     Raises:
         MimicError: bad target, objective, budget, out suffix, checkpoint, Ray address, world,
@@ -122,6 +128,10 @@ def improve(
     if world is not None:
         obj = replace(obj, trial_config=replace(obj.trial_config, world=world_kind(world)))
     kind = obj.trial_config.world
+    placed = None
+    if isinstance(window_s, str):
+        placed = _auto_window(target, window_s, obj, seed, robot or default_robot(kind))
+        window_s = placed.window_s
     tgt = load_target(target, joints=joints, robot=robot or default_robot(kind), window_s=window_s)
     target_robot = tgt.baseline().robot
     if robot is not None and target_robot != robot:
@@ -153,7 +163,7 @@ def improve(
         )
     if executor is None:  # inputs are checked: start the workers
         with make_executor(workers, ray) as own:
-            return improve(
+            run = improve(
                 target,
                 objective=obj,
                 budget=budget,
@@ -175,6 +185,8 @@ def improve(
                 robot=robot,
                 keep_worse=keep_worse,
             )
+            run.stand_window = placed or run.stand_window
+            return run
     if before_search:
         before_search(tgt, obj, pop)
     start = time.perf_counter()
@@ -200,7 +212,7 @@ def improve(
         parameters=tgt.space.describe(z),
     )
     tgt.write(z, out, provenance)
-    run = ImproveRun(tgt, obj, result, out, z=z, search_wall_s=search_wall_s)
+    run = ImproveRun(tgt, obj, result, out, z=z, search_wall_s=search_wall_s, stand_window=placed)
     if validation_episodes:
         improved = tgt.spec(z, label=f"{tgt.label} (improved)")
         start = time.perf_counter()
@@ -238,3 +250,24 @@ def improve(
             )
             run.z, run.kept_start = start_z, True
     return run
+
+
+def _auto_window(target: str, text: str, obj, seed: int, robot: str) -> StandWindow:
+    """``--window auto``: the stand window of the get-up copy ``target`` (a learned one-shot
+    model), played in ``obj``'s trial on the search's first episodes."""
+    from mimic.model.model_file import load_model
+
+    if text != AUTO:
+        raise MimicError(f"--window takes START,END in seconds or auto; got {text!r}")
+    if obj.name != "getup":
+        raise MimicError(
+            f"--window auto places a get-up's stand window; it needs --objective getup, "
+            f"not {obj.name}"
+        )
+    spec = agent_spec(target, robot=robot)
+    if spec.kind != "model" or spec.balance:
+        raise MimicError(f"--window corrects a learned model (.mimic), not {target!r}")
+    model = load_model(spec.ref)
+    if model.cyclic:
+        raise MimicError(f"--window auto: {target} is cyclic; a stand window is a get-up's")
+    return stand_window(spec, model.duration_s, obj.trial_config, seed=seed, runs=obj.episodes)

@@ -37,7 +37,12 @@ from mimic.agents.params_file import (
 from mimic.agents.registry import agent_spec
 from mimic.errors import MimicError
 from mimic.files import atomic_output
-from mimic.improve.correction import WINDOW_RAMP_S, corrected_model, windowed_model
+from mimic.improve.correction import (
+    WINDOW_RAMP_S,
+    WindowedModel,
+    corrected_model,
+    windowed_model,
+)
 from mimic.improve.space import Space
 from mimic.model.model_file import load_model, save_model
 from mimic.motion.files import format_motion, load_motion
@@ -295,6 +300,11 @@ class ModelTarget(Target):
         window_s: tuple[float, float] | None = None,
     ) -> None:
         self.model, self.balance = model, balance
+        if window_s is None and isinstance(model, WindowedModel):
+            raise MimicError(
+                f"{Path(text).name} is corrected in a window (--window); improve it in "
+                "another window (--window START,END or auto), not over the whole motion"
+            )
         if window_s is not None:
             lo, hi = (float(v) for v in window_s)
             if model.cyclic or not 0 <= lo < hi:

@@ -40,10 +40,13 @@ class WindowedModel(MotionModel):
     warp_rate: float = 1.0
     window_offsets_rad: np.ndarray | None = None
     window_gains: np.ndarray | None = None
+    # A model corrected in a window already (its own window, in its played time), corrected
+    # again on top: this window's time and output are the inner model's played ones.
+    inner: WindowedModel | None = None
 
     @classmethod
     def of(cls, model: MotionModel, window_s, rate, offsets_rad, gains) -> WindowedModel:
-        """``model`` (as learned) with the correction."""
+        """``model`` (as learned, or corrected in a window already) with the correction."""
         values = {f.name: getattr(model, f.name) for f in fields(MotionModel)}
         lo = float(window_s[0])
         values["duration_s"] = lo + max(0.0, model.duration_s - lo) / rate
@@ -53,6 +56,7 @@ class WindowedModel(MotionModel):
             warp_rate=float(rate),
             window_offsets_rad=np.asarray(offsets_rad, float),
             window_gains=np.asarray(gains, float),
+            inner=model if isinstance(model, WindowedModel) else None,
         )
 
     def motion_time_s(self, time_s) -> np.ndarray:
@@ -63,7 +67,8 @@ class WindowedModel(MotionModel):
 
     def predict(self, time_s) -> np.ndarray:
         t = self.motion_time_s(time_s)
-        out = np.atleast_2d(super().predict(t)).copy()
+        below = super().predict(t) if self.inner is None else self.inner.predict(t)
+        out = np.atleast_2d(below).copy()
         n = self.num_joints
         w = window_weight(t, *self.window_s)[:, None]
         y, mean = out[:, :n], np.asarray(self.output_mean, float)[:n]
@@ -73,9 +78,14 @@ class WindowedModel(MotionModel):
     @classmethod
     def from_record(cls, model: MotionModel, record: dict) -> WindowedModel:
         """The model a file holds: ``model`` as loaded (the network as learned, the played
-        duration) and the correction its metadata records (``CORRECTION_KEY``)."""
+        duration) and the correction its metadata records (``CORRECTION_KEY``; a windowed
+        correction it corrects in turn is its ``previous``)."""
         names = model.joint_names
         offsets = np.array([float(record.get("offsets_rad", {}).get(j, 0.0)) for j in names])
         gains = np.array([float(record.get("gains", {}).get(j, 1.0)) for j in names])
-        learned = dataclasses.replace(model, duration_s=float(record["learned_duration_s"]))
+        previous = record.get("previous")
+        if isinstance(previous, dict) and "window_s" in previous:
+            learned = cls.from_record(model, previous)
+        else:
+            learned = dataclasses.replace(model, duration_s=float(record["learned_duration_s"]))
         return cls.of(learned, record["window_s"], float(record["rate"]), offsets, gains)

@@ -130,15 +130,20 @@ def getup_scene(
 
 
 class _Highest(Observer):
-    """The highest the torso got [m], and the lowest its forward axis pointed (the z of the
-    unit axis: -1 facing the ground)."""
+    """The highest the torso got [m] and when (cycles counted from the observer's first), and
+    the lowest its forward axis pointed (the z of the unit axis: -1 facing the ground)."""
 
     def __init__(self) -> None:
         self.height_m = 0.0
         self.forward_z = 1.0
+        self.cycles = 0
+        self.highest_cycle = 0
 
     def after_step(self, world) -> None:
-        self.height_m = max(self.height_m, float(world.torso_pos_m()[2]))
+        self.cycles += 1
+        height = float(world.torso_pos_m()[2])
+        if height > self.height_m:
+            self.height_m, self.highest_cycle = height, self.cycles
         self.forward_z = min(self.forward_z, float(world.torso_forward_z()))
 
 
@@ -209,8 +214,10 @@ def play_getup(
         end={"done": "done", "timeout": "timeout", "stop": "stop", "fell": "fell"}[outcome.end],
         torso_height_m=float(world.torso_pos_m()[2]),
         max_torso_height_m=highest.height_m,
+        max_torso_height_s=highest.highest_cycle * CYCLE_S,
         min_torso_forward_z=highest.forward_z,
         upright_s=float(sum(log.upright)) * CYCLE_S,
+        first_upright_s=log.upright.index(True) * CYCLE_S if any(log.upright) else None,
         duration_s=world.time_s,
         falls=0 if upright else 1,
         world=world_kind(config.world),
@@ -238,11 +245,16 @@ class GetupRun:
     # The torso's height at the end and the highest it got [m].
     torso_height_m: float
     max_torso_height_m: float
+    # When the torso was highest, from the get-up's start [s].
+    max_torso_height_s: float
     # The lowest the torso's forward axis pointed during the run (z of the unit axis: -1
     # facing the ground; a back get-up that rolls onto its front goes below 0).
     min_torso_forward_z: float
     # Time the robot was upright during the run, in all (``World.upright``) [s].
     upright_s: float
+    # From the get-up's start to the first cycle it was upright [s] (None: never upright),
+    # whether or not it stayed up (``time_to_stand_s``: from when it stayed).
+    first_upright_s: float | None
     # Simulated time at the run's end, settling included [s].
     duration_s: float
     # 1 if it did not stand.
