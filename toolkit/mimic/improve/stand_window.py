@@ -1,9 +1,9 @@
 """Where a get-up copy's stand window goes (``mimic improve --window auto``), read off the
 copy's own runs.
 
-Issue 35: the T1's back get-up copy, once searched over the whole motion, rises to standing
-height and topples; a search over the stand alone (``--window START,END``) fixes the topple,
-but its START was read off the copy's trace by hand (9.2 s on recording C). ``stand_window``
+A get-up copy searched over the whole motion can rise to standing height and topple; a
+search over the stand alone (``--window START,END``) can fix the topple, but where the stand
+begins differs from copy to copy, and reading it off a trace by hand is not a method. ``stand_window``
 plays the copy as it is in the get-up trial (the objective's world and settings, the search's
 own first episodes) and places the window from ``lead_s`` before the time it was first
 upright (``GetupRun.first_upright_s``; a run never upright: when its torso was highest,
