@@ -6,12 +6,14 @@ from __future__ import annotations
 import math
 from dataclasses import replace
 
+import polars as pl
 import pytest
 
 from mimic.agents.registry import AgentSpec, agent_spec
 from mimic.episode import run
 from mimic.episode.disturbance import DISTURB_LEVELS
 from mimic.tasks.walk import WalkTrialConfig, run_walk_episode
+from mimic.trials.api import walk_trial
 from mimic.world.registry import open_world
 
 # 4 m of the study's 15 m course; a minute at most.
@@ -84,3 +86,18 @@ def test_a_resumed_walk_turns_back_to_its_course(world, robot, walk):
             end_yaw_deg[how] = sum(yaw_deg[-20:]) / 20  # over the last 4 s
     assert abs(end_yaw_deg["resume"]) < 10.0, end_yaw_deg
     assert end_yaw_deg["reset"] > 25.0, end_yaw_deg
+
+
+def test_a_run_that_gets_up_plays_the_same_on_one_worker_and_two(tmp_path):
+    # The T1 in the league's simulation, 4 m under game: on this seed its third run falls,
+    # gets up and walks on; the table must not depend on where the runs played.
+    config = WalkTrialConfig(
+        disturb="game", world="league", start_x_m=-5.0, finish_x_m=-1.0, timeout_s=40.0
+    )
+    spec = agent_spec("other-team-walk", robot="t1")
+    one, two = tmp_path / "one.parquet", tmp_path / "two.parquet"
+    walk_trial([spec], runs=3, seed=5, workers=1, config=config, out=one)
+    walk_trial([spec], runs=3, seed=5, workers=2, config=config, out=two)
+    assert one.read_bytes() == two.read_bytes()
+    runs = pl.read_parquet(one)
+    assert runs["getups"].sum() >= 1 and runs["finished"].all()
