@@ -16,6 +16,7 @@ from mimic.improve.search import SearchConfig, SearchResult, default_population,
 from mimic.improve.stand_window import AUTO, StandWindow, stand_window
 from mimic.improve.targets import Target, load_target
 from mimic.improve.validation import validate
+from mimic.model.model_file import load_model
 from mimic.tasks.registry import get_task
 from mimic.trials.api import TrialResult
 from mimic.trials.executors import Executor, make_executor
@@ -255,8 +256,6 @@ def improve(
 def _auto_window(target: str, text: str, obj, seed: int, robot: str) -> StandWindow:
     """``--window auto``: the stand window of the get-up copy ``target`` (a learned one-shot
     model), played in ``obj``'s trial on the search's first episodes."""
-    from mimic.model.model_file import load_model
-
     if text != AUTO:
         raise MimicError(f"--window takes START,END in seconds or auto; got {text!r}")
     if obj.name != "getup":

@@ -129,7 +129,7 @@ def getup_scene(
     )
 
 
-class _Highest(Observer):
+class _TorsoExtremes(Observer):
     """The highest the torso got [m] and when (cycles counted from the observer's first), and
     the lowest its forward axis pointed (the z of the unit axis: -1 facing the ground)."""
 
@@ -186,11 +186,13 @@ def play_getup(
     scene.setup(world, np.random.default_rng(seed), observers=episode.watchers)
     disturb.start_delay(episode, lying=True)
     log = UprightLog()
-    highest = _Highest()
+    extremes = _TorsoExtremes()
     t0 = world.time_s
     disturb.pusher.arm(world)
     agent = disturb.agent(agent)
-    outcome = run(world, agent, max_s=config.timeout_s, observers=(*episode.watchers, log, highest))
+    outcome = run(
+        world, agent, max_s=config.timeout_s, observers=(*episode.watchers, log, extremes)
+    )
     motion_s = world.time_s - t0
     last = agent.reference_rad
     if last is not None and config.after_s > 0:
@@ -198,7 +200,7 @@ def play_getup(
             world,
             HoldPose(np.asarray(last, float), world.robot.name),
             max_s=config.after_s,
-            observers=(*episode.watchers, log, highest),
+            observers=(*episode.watchers, log, extremes),
         )
     upright = bool(world.upright())
     # The run of upright cycles that reaches the end, counted back.
@@ -213,9 +215,9 @@ def play_getup(
         motion_s=motion_s,
         end={"done": "done", "timeout": "timeout", "stop": "stop", "fell": "fell"}[outcome.end],
         torso_height_m=float(world.torso_pos_m()[2]),
-        max_torso_height_m=highest.height_m,
-        max_torso_height_s=highest.highest_cycle * CYCLE_S,
-        min_torso_forward_z=highest.forward_z,
+        max_torso_height_m=extremes.height_m,
+        max_torso_height_s=extremes.highest_cycle * CYCLE_S,
+        min_torso_forward_z=extremes.forward_z,
         upright_s=float(sum(log.upright)) * CYCLE_S,
         first_upright_s=log.upright.index(True) * CYCLE_S if any(log.upright) else None,
         duration_s=world.time_s,
