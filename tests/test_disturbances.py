@@ -1,6 +1,7 @@
 """Disturbances: pushes, physics spreads, start delays and sensor noise in real episodes."""
 
 import math
+from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -11,13 +12,14 @@ from mimic.cli.main import app
 from mimic.episode.disturbance import (
     DISTURB_LEVELS,
     GAME_PUSH_SPEED_M_S,
+    ORIGINAL_PUSH_SPEED_M_S,
     EpisodeDisturbances,
     NoisySensors,
 )
 from mimic.errors import MimicError
 from mimic.robot.actuators import JointCommand
 from mimic.stats import ratio_interval
-from mimic.tasks.walk import WalkTrialConfig, run_walk_episode
+from mimic.tasks.walk import WalkTask, WalkTrialConfig, run_walk_episode
 from mimic.trials.api import check_trial, walk_trial
 from mimic.world.mujoco_world import MujocoWorld
 
@@ -141,6 +143,30 @@ def test_a_trial_reports_each_ratio_with_its_interval_and_the_level():
     assert row["mean_speed_m_s_ratio_ci_low"] == pytest.approx(1.0)
     assert row["mean_speed_m_s_ratio_ci_high"] == pytest.approx(1.0)
     assert {"pushes", "push_times_s", "friction_scale", "mass_scale"} <= set(result.rows.columns)
+    # Pushed as hard as the original (the first variant) survives most of the time: our walk
+    # engine takes more than the NAO's game push.
+    assert set(result.rows["push_speed_m_s"]) == {ORIGINAL_PUSH_SPEED_M_S[("nao", "walk")]}
+    assert ORIGINAL_PUSH_SPEED_M_S[("nao", "walk")] > GAME_PUSH_SPEED_M_S["nao"]
+
+
+def test_every_variant_is_pushed_as_hard_as_the_original_survives():
+    engine, other = AgentSpec("behaviour", "walk"), AgentSpec("behaviour", "other-team-walk")
+    result = walk_trial([other, engine], runs=2, seed=3, workers=1, config=GAME)
+    assert set(result.rows["push_speed_m_s"]) == {GAME_PUSH_SPEED_M_S["nao"]}
+    # The same seeds draw the same push times for both (a longer run gets more of them); only
+    # their size follows the original.
+    times = result.rows.group_by("variant", maintain_order=True).agg("push_times_s")
+    for a, b in zip(*(times["push_times_s"][i].to_list() for i in (0, 1)), strict=True):
+        n = min(len(a), len(b))
+        assert n >= 1 and a[:n] == b[:n]
+    # A motion or a model as the original: the robot's game push; the level's scale applies.
+    kick = AgentSpec("motion", "kick_right")
+    assert WalkTask.for_original(GAME, kick).push_speed_m_s == GAME_PUSH_SPEED_M_S["nao"]
+    assert WalkTask.for_original(WalkTrialConfig(), engine).push_speed_m_s is None
+    hard = WalkTask.for_original(replace(GAME, disturb="hard"), engine)
+    world = MujocoWorld("nao")
+    pushed = EpisodeDisturbances("hard", 1, world, hard.push_speed_m_s).push_speed_m_s
+    assert pushed == DISTURB_LEVELS["hard"].push_scale * ORIGINAL_PUSH_SPEED_M_S[("nao", "walk")]
 
 
 def test_ratio_interval_covers_the_true_ratio_about_95_percent_of_the_time():

@@ -42,6 +42,7 @@ WALK_COLUMNS = {
     "std_speed_m_s",
     "mean_y_error_m",
     "std_y_error_m",
+    "runs_fell",
     "falls",
 }
 
@@ -176,6 +177,7 @@ def test_three_run_walk_trial_measures_speed_and_drift():
     # A run that ended in a fall counts that fall; the summary adds every run's falls.
     assert (runs.filter(pl.col("fell"))["falls"] >= 1).all()
     assert result.summary["falls"][0] == runs["falls"].sum()
+    assert result.summary["runs_fell"][0] == runs["fell"].sum()
     row = result.summary.row(0, named=True)
     assert row["mean_speed_m_s_ci_low"] <= row["mean_speed_m_s"] <= row["mean_speed_m_s_ci_high"]
     assert (

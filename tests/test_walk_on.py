@@ -54,6 +54,18 @@ def test_a_walk_run_that_falls_gets_up_and_walks_on_to_the_finish(shove):
     assert on["speed_m_s"] < 0.7 * calm["speed_m_s"]
 
 
+def test_the_table_counts_the_runs_that_fell_and_every_fall(shove):
+    spec = AgentSpec("behaviour", "walk")
+    result = walk_trial(
+        [spec], runs=2, seed=1, workers=1, config=WalkTrialConfig(disturb="shove", **SHORT)
+    )
+    row, runs = result.summary.row(0, named=True), result.rows
+    # The share's interval is of runs that fell; a run that fell got up and may fall again.
+    assert row["runs_fell"] == runs["fell"].sum() >= 1
+    assert row["falls"] == runs["falls"].sum() >= row["runs_fell"]
+    assert row["fall_rate_pct"] == pytest.approx(100.0 * row["runs_fell"] / 2)
+
+
 @pytest.mark.parametrize(
     "world, robot, walk",
     [

@@ -56,8 +56,9 @@ ROBOT = typer.Option(
 #: ``--disturb``: how much a trial's episodes are disturbed (``episode.disturbance``).
 DISTURB = typer.Option(
     "--disturb",
-    help="Disturbances per episode: none (only the start pose), game (start delay, pushes, "
-    "friction and masses +-10 %) or hard (game's pushes, +-20 %, sensor noise); default: "
+    help="Disturbances per episode: none (only the start pose), game (start delay, pushes "
+    "the first variant survives most of the time, friction and masses +-10 %) or hard "
+    "(game's pushes, +-20 %, sensor noise); default: "
     "game where mimic steps the physics itself, none on a league server (it cannot push).",
     show_default=False,
 )

@@ -10,8 +10,9 @@ them for one episode from the episode's seed and applies them:
 * **pushes**: at times of a Poisson process (mean gap ``push_interval_s``, none in the first
   ``push_after_s`` of the agent's run), a horizontal force on the torso for
   ``push_duration_s`` in a uniformly drawn direction, sized to change the whole robot's
-  momentum by its mass times ``push_scale`` times the robot's ``GAME_PUSH_SPEED_M_S`` (the
-  push its original walk survives most of the time);
+  momentum by its mass times ``push_scale`` times a game's push: the one the trial's original
+  (its first variant) survives most of the time (``ORIGINAL_PUSH_SPEED_M_S``, else its
+  robot's ``GAME_PUSH_SPEED_M_S``), the same for every variant;
 * **physics**: every contact's sliding friction times ``U(1 - friction_spread, 1 +
   friction_spread)``, every link's mass and inertia times one ``U(1 - mass_spread, 1 +
   mass_spread)`` (a heavier or lighter robot of the same build: each link drawn on its own
@@ -52,6 +53,8 @@ __all__ = [
     "DISTURB_LEVELS",
     "DEFAULT_DISTURB",
     "GAME_PUSH_SPEED_M_S",
+    "ORIGINAL_PUSH_SPEED_M_S",
+    "game_push_speed_m_s",
     "disturb_level",
 ]
 
@@ -109,11 +112,22 @@ class Disturbances:
         return self.joint_noise_rad > 0 or self.gyro_noise_rad_s > 0 or self.tilt_noise_rad > 0
 
 
-#: The push [m/s of the whole robot's speed] each robot's original walks survive most of the
-#: time (the NAO's walk engine and its other team's walk in our world; the T1 other team's
-#: walks in the league's physics), given over ``push_duration_s``. ``docs/disturbances.md``
-#: says how they were found.
+#: The push [m/s of the whole robot's speed, given over ``push_duration_s``] a robot's
+#: original walks survive most of the time (the NAO other team's walk in our world, the T1
+#: other team's walks in the league's physics): a walk run falls in about one in four to
+#: three. ``docs/disturbances.md`` says how they were found.
 GAME_PUSH_SPEED_M_S = {"nao": 0.3, "t1": 0.05, "k1": 0.05}
+#: (robot, behaviour) -> the same for an original that takes a harder push than its robot's
+#: others: our NAO walk engine falls at the NAO's push in about one run in ten, so its runs
+#: would differ mostly by their start.
+ORIGINAL_PUSH_SPEED_M_S = {("nao", "walk"): 0.4}
+
+
+def game_push_speed_m_s(robot: str, behaviour: str | None = None) -> float:
+    """The game push [m/s] of a trial whose original is ``behaviour`` (an agent name; None or
+    a motion or model: the robot's) on ``robot``."""
+    return ORIGINAL_PUSH_SPEED_M_S.get((robot, behaviour or ""), GAME_PUSH_SPEED_M_S[robot])
+
 
 #: The levels ``--disturb`` names. ``game`` is what a game in the league has: robots start on
 #: any cycle, get pushed, and the grass and the robots are not the nominal ones; neither
@@ -169,9 +183,12 @@ def check_world_disturbable(level: str, world: World) -> None:
 
 
 class EpisodeDisturbances:
-    """One episode's disturbances, drawn from ``seed`` for ``world`` (see the module)."""
+    """One episode's disturbances, drawn from ``seed`` for ``world`` (see the module);
+    ``push_speed_m_s``: a push of ``push_scale`` 1 [m/s] (None: the robot's game push)."""
 
-    def __init__(self, level: str, seed: int, world: World) -> None:
+    def __init__(
+        self, level: str, seed: int, world: World, push_speed_m_s: float | None = None
+    ) -> None:
         self.level = level
         self.spec = disturb_level(level)
         check_world_disturbable(level, world)
@@ -182,7 +199,9 @@ class EpisodeDisturbances:
         self.link_mass_scales = np.full(len(world.robot.links), self.mass_scale)
         self._rng = rng  # start delays, push times and sensor noise, in the order asked
         self.start_delays_s: list[float] = []
-        self.push_speed_m_s = s.push_scale * GAME_PUSH_SPEED_M_S[world.robot.name]
+        if push_speed_m_s is None:
+            push_speed_m_s = game_push_speed_m_s(world.robot.name)
+        self.push_speed_m_s = s.push_scale * push_speed_m_s
         self.pusher = Pusher(self)
 
     def apply_physics(self, world: World) -> None:

@@ -199,6 +199,12 @@ class TrialTask:
         return f"{len(batch.episodes)} runs" if minutes else ""
 
     @classmethod
+    def for_original(cls, config, original: AgentSpec):
+        """``config`` as a trial whose first variant is ``original`` plays every variant
+        (default: as it is)."""
+        return config
+
+    @classmethod
     def default_variant(cls, robot: str, config) -> str:
         """The variant a trial plays when given none (an agent or motion name)."""
         raise NotImplementedError

@@ -11,7 +11,7 @@ the time its get-ups took.
 from __future__ import annotations
 
 import math
-from dataclasses import asdict, dataclass
+from dataclasses import asdict, dataclass, replace
 from typing import ClassVar
 
 import numpy as np
@@ -19,7 +19,7 @@ import polars as pl
 
 from mimic.agents.registry import AgentSpec
 from mimic.episode import Episode, PoseNoise, PoseTrace, Scene
-from mimic.episode.disturbance import EpisodeDisturbances
+from mimic.episode.disturbance import EpisodeDisturbances, disturb_level, game_push_speed_m_s
 from mimic.episode.scene import SETTLE_S
 from mimic.stats import mean_interval, wilson_interval
 from mimic.tasks.base import (
@@ -74,6 +74,9 @@ class WalkTrialConfig:
     # Disturbance level (``episode.disturbance.DISTURB_LEVELS``): none, game or hard. The
     # library's default is none (the undisturbed trial); ``mimic trial`` defaults to game.
     disturb: str = "none"
+    # The push [m/s] of a game (``push_scale`` 1; ``episode.disturbance``); None: the robot's.
+    # ``mimic trial`` sets the one its first variant, the original, survives most of the time.
+    push_speed_m_s: float | None = None
 
     def course_m(self) -> tuple[float, float]:
         """(start x, finish x) [m] in this trial's world."""
@@ -111,7 +114,7 @@ def _play_walk_episode(
     world, walk: AgentSpec, seed: int, config: WalkTrialConfig
 ) -> tuple[list[dict], dict]:
     rng = np.random.default_rng(seed)
-    disturb = EpisodeDisturbances(config.disturb, seed, world)
+    disturb = EpisodeDisturbances(config.disturb, seed, world, config.push_speed_m_s)
     disturb.apply_physics(world)
     finish_x = config.course_m()[1]
     trace = PoseTrace() if config.trace else None
@@ -214,6 +217,7 @@ def walk_summary(label: str, batch: EpisodeBatch) -> dict:
         mean_y_error_m=runs["y_error_m"].mean(),
         **ci_columns("mean_y_error_m", mean_interval(runs["y_error_m"].to_numpy())),
         std_y_error_m=runs["y_error_m"].std() if runs.height > 1 else 0.0,
+        runs_fell=fell,
         falls=int(runs["falls"].sum()),
         fall_rate_pct=100.0 * fell / runs.height,
         **ci_columns("fall_rate_pct", wilson_interval(fell, runs.height), 100.0),
@@ -289,14 +293,16 @@ class WalkTask(TrialTask):
         Column("std_speed_m_s", "std"),
         Column("mean_y_error_m", "Y err m", "mean_y_error_m"),
         Column("std_y_error_m", "std"),
-        Column("falls", "falls", "fall_rate_pct", "range %"),
+        Column("runs_fell", "runs fell", "fall_rate_pct", "range %"),
+        Column("falls", "falls"),
         Column("mean_speed_m_s_ratio", "speed ratio", "mean_speed_m_s_ratio"),
     )
     legend = (
         "95% CI: 95 % confidence interval of the means (t, +- half width) and of the share "
         "of runs that fell (Wilson). Ratios: against the first variant, with their 95 % "
         "interval (delta method, runs paired by seed). A run that falls ends there "
-        "(--disturb none) or gets up and walks on (game, hard)."
+        "(--disturb none) or gets up and walks on (game, hard; falls: every fall, failed "
+        "get-ups too)."
     )
     ratio_columns = ("mean_speed_m_s", "std_speed_m_s", "mean_y_error_m", "std_y_error_m")
     ratio_sources = {"mean_speed_m_s": "speed_m_s"}
@@ -308,6 +314,14 @@ class WalkTask(TrialTask):
     )
     run_episode = staticmethod(run_walk_episode)
     summarise = staticmethod(walk_summary)
+
+    @classmethod
+    def for_original(cls, config: WalkTrialConfig, original: AgentSpec) -> WalkTrialConfig:
+        """Pushes (if the level has them) the size the original survives most of the time."""
+        if config.push_speed_m_s is not None or not disturb_level(config.disturb).pushes:
+            return config
+        behaviour = original.ref if original.kind == "behaviour" else None
+        return replace(config, push_speed_m_s=game_push_speed_m_s(original.robot, behaviour))
 
     @classmethod
     def default_variant(cls, robot: str, config: WalkTrialConfig) -> str:

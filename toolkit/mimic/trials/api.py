@@ -171,6 +171,8 @@ def run_trial(
     if minutes is None and runs is None:
         raise MimicError("give --minutes or --runs")
     check_trial(task, specs, minutes=minutes, runs=runs, seed=seed, workers=workers, config=config)
+    if specs:
+        config = task.for_original(config, specs[0])
     if out is not None and not overwrite:
         check_outputs(trial_files(out))
     run = dict(minutes=minutes, runs=runs, seed=seed, out=out, progress=progress, trace=trace)
