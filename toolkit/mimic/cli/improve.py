@@ -126,6 +126,16 @@ def _improve(
             "(or highest) in its own runs to its end.",
         ),
     ] = None,
+    follow: Annotated[
+        Path | None,
+        typer.Option(
+            metavar="REC.mcap",
+            help="--objective getup, a learned copy of REC: fit its references in the trial's "
+            "simulation until it follows REC (iterative learning control, from just after it "
+            "first lies face down to its end, at REC's own speed); --budget: rounds, "
+            "--episodes: runs per round (default 3). No search, no validation.",
+        ),
+    ] = None,
     pick: Annotated[
         Pick,
         typer.Option(
@@ -215,6 +225,9 @@ def _improve(
             lo, hi = tgt.window_s
             console.print(f"correction window: {lo:.2f}-{hi:.2f} s of the motion", highlight=False)
 
+    if follow is not None:
+        _follow(target, follow, task, budget, episodes, seed, joints, window, world, robot, out)
+        return
     workers = check_workers(workers, ray or bool(ray_address))
     try:  # improve() checks every input before it starts workers
         run = improve(
@@ -273,6 +286,53 @@ def _improve(
     verdict = _verdict(run)
     if verdict:
         console.print(verdict, highlight=False, soft_wrap=True)
+
+
+def _follow(target, recording, task, rounds, runs, seed, joints, window, world, robot, out):
+    """``--follow REC``: the copy's references fitted until it follows its recording."""
+    from mimic.agents.registry import agent_spec
+    from mimic.files import input_file
+    from mimic.improve.follow import FollowConfig, follow_recording
+    from mimic.improve.targets import resolve_joints
+    from mimic.model.model_file import load_model, save_model
+    from mimic.world.registry import check_world, default_robot
+
+    if task.name != "getup":
+        raise MimicError(
+            f"--follow fits a get-up copy; it needs --objective getup, not {task.name}"
+        )
+    if window is not None:
+        raise MimicError("--follow places its own window; drop --window")
+    input_file(recording, "recording", "give the .mcap the copy was learned from")
+    spec = agent_spec(target, robot=robot or default_robot(world))
+    if spec.kind != "model" or spec.balance:
+        raise MimicError(f"--follow fits a learned model (.mimic), not {target!r}")
+    model = load_model(spec.ref)
+    check_world(world, model.robot)
+    config = FollowConfig(rounds=rounds, runs=3 if runs is None else runs, seed=seed)
+
+    def show(r) -> None:
+        followed = " ".join(f"{v:.2f}" for v in r.followed_s)
+        console.print(
+            f"round {len(shown) + 1}: followed to {followed} s, torso highest "
+            f"{max(r.highest_m):.2f} m, error {r.error_rad:.3f} rad"
+            + ("" if r.kept else " (undone)"),
+            highlight=False,
+        )
+        shown.append(r)
+
+    shown: list = []
+    result = follow_recording(
+        model,
+        recording,
+        resolve_joints(model.robot, joints),
+        task.Config(world=world),
+        config,
+        on_round=show,
+    )
+    save_model(result.model, out)
+    console.print(result.describe(), highlight=False)
+    console.print(f"wrote {out}")
 
 
 def _verdict(run) -> str:

@@ -112,13 +112,16 @@ def windowed_model(
     offsets_rad: np.ndarray,
     gains: np.ndarray,
     *,
+    track: tuple[np.ndarray, np.ndarray] | None = None,
     provenance: dict | None = None,
 ) -> WindowedModel:
     """``model`` played ``rate`` times faster from the window's start on, with per-joint
     offsets and gains (as ``corrected_model``'s) only within ``window_s`` [s of the motion
     as learned]; before the window it plays as learned. A model corrected in a window
     already takes a second window on top (in its played time; e.g. the T1 back get-up's
-    rise, then its stand)."""
+    rise, then its stand). ``track``: offsets that vary within the window, (knot times (K,)
+    [s of the motion as learned, increasing], offsets (K, N) [rad]), linear between knots
+    (``improve.follow``)."""
     if model.cyclic:
         raise ValueError("a windowed correction is for one-shot motions (a cyclic one: none)")
     if not rate > 0:
@@ -140,8 +143,24 @@ def windowed_model(
         "gains": {j: float(g) for j, g in zip(model.joint_names, gains) if g != 1.0},
         **(provenance or {}),
     }
+    if track is not None:
+        knots, values = np.asarray(track[0], float), np.asarray(track[1], float)
+        if knots.ndim != 1 or values.shape != (len(knots), n) or len(knots) < 1:
+            raise ValueError(
+                f"an offset track needs K knot times and (K, {n}) offsets, got "
+                f"{knots.shape} and {values.shape}"
+            )
+        if np.any(np.diff(knots) <= 0):
+            raise ValueError("an offset track's knot times must increase")
+        track = (knots, values)
+        record["track_s"] = [float(v) for v in knots]
+        record["track_offsets_rad"] = {
+            j: [float(v) for v in values[:, i]]
+            for i, j in enumerate(model.joint_names)
+            if np.any(values[:, i])
+        }
     previous = model.metadata.get(CORRECTION_KEY)
     if previous:
         record["previous"] = previous
     marked = dataclasses.replace(model, metadata={**model.metadata, CORRECTION_KEY: record})
-    return WindowedModel.of(marked, (lo, hi), rate, offsets_rad, gains)
+    return WindowedModel.of(marked, (lo, hi), rate, offsets_rad, gains, track)

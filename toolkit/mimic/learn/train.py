@@ -58,6 +58,7 @@ __all__ = [
     "input_mapping",
     "training_dataset",
     "pd_compensated_targets",
+    "recorded_torso",
     "TARGET_REACHED",
     "TARGET_COMPENSATED",
     "PERIOD_STEPS",
@@ -554,6 +555,13 @@ class _RecordedTf:
         if np.hypot(*offset) > _KICK_REACH_M:
             return None  # a ball lying aside (a get-up, a wave) is not where a kick wanted it
         return [round(float(v), 4) for v in offset]
+
+
+def recorded_torso(path, ds: Dataset) -> tuple[np.ndarray, np.ndarray] | None:
+    """The torso (root link) pose a recording's ``/tf`` gives at ``ds``'s sample times:
+    positions (T, 3) [m] and orientations (T, 4) (w, x, y, z), or None without one."""
+    tf = _RecordedTf.read(path, ds)
+    return None if tf is None else tf.torso_at_samples(get_robot(ds.robot), ds.time_s)
 
 
 def pd_compensated_targets(

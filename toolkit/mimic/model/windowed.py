@@ -1,8 +1,11 @@
 """A learned one-shot model corrected within a time window (``mimic improve --window``,
 ``improve.correction.windowed_model``): the network as learned, and on its output a time warp
-from the window's start on and per-joint offsets and gains inside the window. Its file keeps
-the network and the correction (``model.keys.CORRECTION_KEY``: ``window_s``, ``rate``,
-``offsets_rad``, ``gains``, ``learned_duration_s``); ``load_model`` gives this class back."""
+from the window's start on and per-joint offsets and gains inside the window, and optionally an
+offset *track*: per-joint offsets that vary over the window, linear between knots
+(``improve.follow`` fits one so the copy follows its recording). Its file keeps the network
+and the correction (``model.keys.CORRECTION_KEY``: ``window_s``, ``rate``, ``offsets_rad``,
+``gains``, ``learned_duration_s``, and with a track ``track_s`` and ``track_offsets_rad``);
+``load_model`` gives this class back."""
 
 from __future__ import annotations
 
@@ -40,13 +43,21 @@ class WindowedModel(MotionModel):
     warp_rate: float = 1.0
     window_offsets_rad: np.ndarray | None = None
     window_gains: np.ndarray | None = None
+    # An offset track on top of the constant offsets: knot times (K,) [s of the motion as
+    # learned, like ``window_s``] and offsets (K, N) [rad], linear between knots, held flat
+    # beyond the first and last; None: none.
+    track_s: np.ndarray | None = None
+    track_offsets_rad: np.ndarray | None = None
     # A model corrected in a window already (its own window, in its played time), corrected
     # again on top: this window's time and output are the inner model's played ones.
     inner: WindowedModel | None = None
 
     @classmethod
-    def of(cls, model: MotionModel, window_s, rate, offsets_rad, gains) -> WindowedModel:
-        """``model`` (as learned, or corrected in a window already) with the correction."""
+    def of(
+        cls, model: MotionModel, window_s, rate, offsets_rad, gains, track=None
+    ) -> WindowedModel:
+        """``model`` (as learned, or corrected in a window already) with the correction;
+        ``track``: (knot times (K,) [s], offsets (K, N) [rad]) or None."""
         values = {f.name: getattr(model, f.name) for f in fields(MotionModel)}
         lo = float(window_s[0])
         values["duration_s"] = lo + max(0.0, model.duration_s - lo) / rate
@@ -57,6 +68,17 @@ class WindowedModel(MotionModel):
             window_offsets_rad=np.asarray(offsets_rad, float),
             window_gains=np.asarray(gains, float),
             inner=model if isinstance(model, WindowedModel) else None,
+            track_s=None if track is None else np.asarray(track[0], float),
+            track_offsets_rad=None if track is None else np.asarray(track[1], float),
+        )
+
+    def track_at(self, time_s: np.ndarray) -> np.ndarray:
+        """(T, N) the offset track at motion times ``time_s`` [s] (zeros without one)."""
+        t = np.atleast_1d(np.asarray(time_s, float))
+        if self.track_s is None:
+            return np.zeros((len(t), self.num_joints))
+        return np.stack(
+            [np.interp(t, self.track_s, column) for column in self.track_offsets_rad.T], axis=1
         )
 
     def motion_time_s(self, time_s) -> np.ndarray:
@@ -72,7 +94,8 @@ class WindowedModel(MotionModel):
         n = self.num_joints
         w = window_weight(t, *self.window_s)[:, None]
         y, mean = out[:, :n], np.asarray(self.output_mean, float)[:n]
-        out[:, :n] = y + w * (self.window_offsets_rad + (self.window_gains - 1.0) * (y - mean))
+        offsets = self.window_offsets_rad + self.track_at(t)
+        out[:, :n] = y + w * (offsets + (self.window_gains - 1.0) * (y - mean))
         return out[0] if np.ndim(time_s) == 0 else out
 
     @classmethod
@@ -88,4 +111,14 @@ class WindowedModel(MotionModel):
             learned = cls.from_record(model, previous)
         else:
             learned = dataclasses.replace(model, duration_s=float(record["learned_duration_s"]))
-        return cls.of(learned, record["window_s"], float(record["rate"]), offsets, gains)
+        track = None
+        if "track_s" in record:
+            knots = np.asarray(record["track_s"], float)
+            columns = record.get("track_offsets_rad", {})
+            track = (
+                knots,
+                np.stack(
+                    [np.asarray(columns.get(j, np.zeros(len(knots))), float) for j in names], 1
+                ),
+            )
+        return cls.of(learned, record["window_s"], float(record["rate"]), offsets, gains, track)

@@ -173,10 +173,12 @@ def play_getup(
     *,
     noise: PoseNoise | None = None,
     pose_rad: np.ndarray | None = None,
+    observers: tuple[Observer, ...] = (),
 ) -> tuple[GetupRun, EpisodeTrace | None]:
     """One get-up of ``agent`` in ``world`` (module docstring): the run's row and, with
     ``config.trace``, its pose trace. ``noise`` and ``pose_rad``: the lying robot's start
-    noise and pose, in place of the config's noise and the stand pose (``getup_scene``)."""
+    noise and pose, in place of the config's noise and the stand pose (``getup_scene``);
+    ``observers``: more observers of the get-up and the hold after it."""
     disturb = EpisodeDisturbances(config.disturb, seed, world)
     disturb.apply_physics(world)
     side = config.side_for(agent.start_posture)
@@ -191,7 +193,10 @@ def play_getup(
     disturb.pusher.arm(world)
     agent = disturb.agent(agent)
     outcome = run(
-        world, agent, max_s=config.timeout_s, observers=(*episode.watchers, log, extremes)
+        world,
+        agent,
+        max_s=config.timeout_s,
+        observers=(*episode.watchers, log, extremes, *observers),
     )
     motion_s = world.time_s - t0
     last = agent.reference_rad
@@ -200,7 +205,7 @@ def play_getup(
             world,
             HoldPose(np.asarray(last, float), world.robot.name),
             max_s=config.after_s,
-            observers=(*episode.watchers, log, extremes),
+            observers=(*episode.watchers, log, extremes, *observers),
         )
     upright = bool(world.upright())
     # The run of upright cycles that reaches the end, counted back.

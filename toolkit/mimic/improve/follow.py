@@ -1,0 +1,331 @@
+"""A get-up copy's references fitted in simulation until it follows its recording
+(``mimic improve COPY.mimic --objective getup --follow REC.mcap``): iterative learning
+control over the part of the motion after the copy first lies face down.
+
+Why (issue 35): the T1's back get-up copies of most recordings roll onto their front, push
+up into a kneel and then tip forward as their hips rise, where the original rises with its
+torso upright. Their references in the kneel are off in ways one offset per joint cannot
+mend (the compensated knee pressed 0.4 rad past its stop, the hips 0.3 rad deeper, left and
+right unlike): played from 7 s on with the original's leg pitch references (shifted 0.12 s)
+a copy rises; with those references smoothed over 0.25 s knots, or with any of 60 constant
+offsets and gains, it still tips. What the copy *reaches* can be compared with what the
+recording reached, sample by sample, and the references corrected until they agree:
+
+1. The copy plays in the get-up trial (``config``, one run per seed) and on in its hold.
+   Its correction window starts ``START_AFTER_FACE_DOWN_S`` after it first faced the ground
+   (forward axis z below ``FACE_DOWN_Z``, in the first seed's run as it is): the roll before
+   stays as learned (a correction there broke it). From the window's start the copy plays at
+   the recording's own speed (a time warp undoing the whole-motion searches' one, which
+   rushed one copy's kneel 26 % faster than recorded, into a tip).
+2. Each run *follows* the recording until its torso parts from the recording's (``/tf``):
+   forward-axis z off by more than ``fz_tolerance`` or height by more than
+   ``height_tolerance_m`` from the recording's anywhere within ``time_tolerance_s``, for
+   ``diverge_s`` in a row. A round's followed time is the median over the seeds (the
+   shortest held one recording's copy at a push-up that one seed missed).
+3. The joints' error (the recording's angle less the reached one, mean over the seeds) over
+   the followed part, ``lead_s`` on (a reference acts a cycle late and the joint lags it),
+   smoothed, times ``gain``, is added to the correction's track, but only in the
+   ``front_s`` before the followed time: a correction reaches forward in time, so the front
+   is mended first and what already follows is left alone. After its end the copy holds
+   its last pose: the mean error of the hold goes to the last knots.
+4. A round that followed more than ``tolerance_s`` less than the best so far is undone and
+   the gain halved.
+5. The copy's last pose starts as the compensated reference of the recording's last
+   ``stand_s`` (it stands still there; ``learn.train.pd_compensated_targets``), blended in
+   over ``stand_blend_s``: the whole-motion searches had moved the copies' knees and ankles
+   0.1 rad from it, and they fell back from a stand they had reached.
+
+The result is an ordinary windowed model (``model.windowed.WindowedModel`` with an offset
+track, knots every ``knot_s``); a stand window (``--window auto``) can go on top.
+
+Measured (docs/getups.md, "Following the recording"; T1 ``getup_back``, recordings R1, R2,
+R3, on their S1b copies, 24 rounds of 3 runs): every copy followed its recording to where
+its torso tipped (7.3-8.0 s) as it was; fitted, R2's and R3's rise upright in 6 of 6
+league-like development runs and R1's in 3, where no S1b copy was ever upright; in the
+league at trial seeds 7000 and 8000 R2's stood 6/10 and 6/10 (8.66 s, 0.93x), R1's 2/10 and
+0/10, R3's 0/10 twice (upright in 17 of 20, then fell). The stand after the rise is what is
+left: a ``--window auto`` search on top (91 evaluations) made R2's worse (4 to 1 of 6).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from mimic.agents.neural_player import NeuralPlayer
+from mimic.episode.observers import Observer
+from mimic.errors import MimicError
+from mimic.improve.correction import WINDOW_RAMP_S, WindowedModel, windowed_model
+from mimic.learn.dataset import dataset_from_file
+from mimic.learn.train import pd_compensated_targets, recorded_torso
+from mimic.model.keys import CORRECTION_KEY
+from mimic.model.motion_model import MotionModel
+from mimic.tasks.getup import GetupTrialConfig, play_getup
+from mimic.trials.parallel import derive_seed
+from mimic.world.base import CYCLE_S
+from mimic.world.registry import open_world
+
+__all__ = ["FollowConfig", "FollowRound", "FollowResult", "follow_recording"]
+
+#: The copy has rolled onto its front once its torso's forward axis z is below this.
+FACE_DOWN_Z = -0.9
+#: The correction window starts this long after the copy first faced the ground [s].
+START_AFTER_FACE_DOWN_S = 0.2
+
+
+@dataclass(frozen=True)
+class FollowConfig:
+    """How the references are fitted (module docstring)."""
+
+    rounds: int = 12
+    # Runs per round (trial seeds ``derive_seed(seed, 0..runs-1)``).
+    runs: int = 3
+    seed: int = 0
+    gain: float = 0.6
+    lead_s: float = 0.06
+    front_s: float = 2.0
+    knot_s: float = 0.04
+    fz_tolerance: float = 0.3
+    height_tolerance_m: float = 0.08
+    diverge_s: float = 0.3
+    time_tolerance_s: float = 0.2
+    # The recording's last ``stand_s`` [s] are its stand: the copy's last pose starts as their
+    # compensated reference (mean), blended in over ``stand_blend_s`` before its end (0: off).
+    stand_s: float = 1.0
+    stand_blend_s: float = 0.3
+    tolerance_s: float = 0.04
+    # Window start [s of the copy's motion]; None: after the copy first faced the ground.
+    start_s: float | None = None
+
+    def __post_init__(self) -> None:
+        if self.rounds < 1 or self.runs < 1:
+            raise MimicError(f"--follow needs >= 1 round and run, got {self.rounds}, {self.runs}")
+
+
+@dataclass(frozen=True)
+class FollowRound:
+    """One round: how long each run followed the recording [s] and its torso's highest [m]."""
+
+    followed_s: tuple[float, ...]
+    highest_m: tuple[float, ...]
+    error_rad: float
+    kept: bool
+
+    @property
+    def followed(self) -> float:
+        return float(np.median(self.followed_s))
+
+
+@dataclass
+class FollowResult:
+    """The fitted copy and how the rounds went."""
+
+    model: WindowedModel
+    start_s: float
+    rounds: list[FollowRound] = field(default_factory=list)
+
+    @property
+    def best_followed_s(self) -> float:
+        return max(r.followed for r in self.rounds if r.kept)
+
+    def describe(self) -> str:
+        first, best = (
+            self.rounds[0],
+            max((r for r in self.rounds if r.kept), key=lambda r: r.followed),
+        )
+        return (
+            f"--follow: window from {self.start_s:.2f} s; the copy followed its recording to "
+            f"{first.followed:.2f} s as it was, {best.followed:.2f} s fitted "
+            f"(torso highest {np.mean(best.highest_m):.2f} m, {len(self.rounds)} rounds)"
+        )
+
+
+class _Reached(Observer):
+    """Every cycle of the get-up: the agent's time, the joints reached, torso height and
+    forward-axis z."""
+
+    def __init__(self) -> None:
+        self.rows: list[tuple[float, np.ndarray, float, float]] = []
+        self._t0: float | None = None
+
+    def after_step(self, world) -> None:
+        if self._t0 is None:
+            self._t0 = world.time_s - CYCLE_S
+        self.rows.append(
+            (
+                world.time_s - self._t0,
+                np.array(world.joint_angles_rad(), float),
+                float(world.torso_pos_m()[2]),
+                float(world.torso_forward_z()),
+            )
+        )
+
+    def arrays(self):
+        t, q, h, fz = zip(*self.rows)
+        return np.array(t), np.stack(q), np.array(h), np.array(fz)
+
+
+def _learned_rate(model: MotionModel) -> float:
+    """Learned seconds per played second of a model corrected over its whole motion."""
+    rate, record = 1.0, model.metadata.get(CORRECTION_KEY)
+    while isinstance(record, dict):
+        rate *= float(record.get("rate", 1.0))
+        record = record.get("previous")
+    return rate
+
+
+def _forward_z(quat_wxyz: np.ndarray) -> np.ndarray:
+    w, x, y, z = np.asarray(quat_wxyz, float).T
+    return 2 * (x * z - w * y)
+
+
+def _followed_until(t, h, fz, tl, t_rec, h_rec, fz_rec, start_s, config: FollowConfig) -> float:
+    """The time [s] the run's torso parted from the recording's (its end: never): off by
+    more than the tolerances from the recording's torso at every time within
+    ``time_tolerance_s`` of where the copy is in it, for ``diverge_s`` in a row."""
+    shifts = np.arange(-config.time_tolerance_s, config.time_tolerance_s + 1e-9, CYCLE_S)
+    near = np.zeros(len(t), bool)
+    for shift in shifts:
+        near |= (np.abs(fz - np.interp(tl + shift, t_rec, fz_rec)) <= config.fz_tolerance) & (
+            np.abs(h - np.interp(tl + shift, t_rec, h_rec)) <= config.height_tolerance_m
+        )
+    off = (t > start_s) & ~near
+    need = max(1, round(config.diverge_s / CYCLE_S))
+    count = 0
+    for i, bad in enumerate(off):
+        count = count + 1 if bad else 0
+        if count >= need:
+            return float(t[i - need + 1])
+    return float(t[-1])
+
+
+def follow_recording(
+    model: MotionModel,
+    recording: str | Path,
+    joints: list[int],
+    trial: GetupTrialConfig,
+    config: FollowConfig = FollowConfig(),
+    on_round=None,
+) -> FollowResult:
+    """``model`` (a get-up copy of ``recording``, corrected over its whole motion or not)
+    with an offset track over ``joints`` fitted until it follows the recording in ``trial``'s
+    get-up (module docstring).
+
+    Raises:
+        MimicError: a cyclic or windowed model, a recording without the torso's pose, a copy
+            that never faces the ground.
+    """
+    if model.cyclic or isinstance(model, WindowedModel):
+        raise MimicError(
+            "--follow fits a one-shot copy as learned or corrected over its whole motion "
+            "(not cyclic, not corrected in a window)"
+        )
+    recorded = dataset_from_file(recording, "/joint_states")
+    torso = recorded_torso(recording, recorded)
+    if torso is None:
+        raise MimicError(f"--follow: {recording} has no torso pose on /tf to follow")
+    if list(recorded.joint_names) != list(model.joint_names):
+        raise MimicError(f"--follow: {recording} is not of this copy's robot ({model.robot})")
+    t_rec, q_rec = recorded.time_s, recorded.angles_rad
+    h_rec, fz_rec = torso[0][:, 2], _forward_z(torso[1])
+    cut0 = float((model.metadata.get("cut_s") or [0.0])[0])
+    scale = _learned_rate(model)  # learned s per played s
+    n = model.num_joints
+    mask = np.zeros(n)
+    mask[joints] = 1.0
+    seeds = [derive_seed(config.seed, i) for i in range(config.runs)]
+
+    def play(candidate, seed):
+        with open_world(trial.world, model.robot, server_command=trial.server_command) as world:
+            reached = _Reached()
+            play_getup(world, NeuralPlayer(candidate), seed, trial, observers=(reached,))
+        return reached.arrays()
+
+    start = config.start_s
+    if start is None:
+        t, _, _, fz = play(model, seeds[0])
+        down = np.flatnonzero(fz < FACE_DOWN_Z)
+        if not len(down):
+            raise MimicError(
+                "--follow: the copy never faces the ground in its first run (it does not "
+                "roll); improve its roll over the whole motion first"
+            )
+        start = float(t[down[0]]) + START_AFTER_FACE_DOWN_S
+    if not 0 <= start < model.duration_s:
+        raise MimicError(f"--follow: the window start {start:.2f} s is outside the motion")
+    warp = 1.0 / scale  # from the window on, at the recording's own speed
+    end = model.duration_s + WINDOW_RAMP_S
+    knots = np.arange(start - WINDOW_RAMP_S, model.duration_s + 0.5, config.knot_s)
+
+    def candidate(table):
+        return windowed_model(
+            model, warp, (start, end), np.zeros(n), np.ones(n), track=(knots, table)
+        )
+
+    last = model.duration_s
+
+    def learned_s(t):  # recording time at the copy's played times, and the copy's own time
+        inner = np.where(t < start, t, start + warp * (t - start))
+        return cut0 + scale * inner, np.minimum(inner, last)  # held at its end after it
+
+    table = np.zeros((len(knots), n))
+    if config.stand_s > 0:  # the copy ends where its recording's final stand was referenced
+        stand = t_rec > t_rec[-1] - config.stand_s
+        refs = pd_compensated_targets(
+            t_rec,
+            q_rec,
+            torso[0],
+            torso[1],
+            model.robot,
+            recorded.metadata.get("recording_world", "league"),
+        )
+        own_end = np.asarray(model.predict(np.array([last])))[0, :n]
+        blend = np.clip((knots - (last - config.stand_blend_s)) / config.stand_blend_s, 0, 1)
+        table = blend[:, None] * ((refs[stand].mean(axis=0) - own_end) * mask)[None, :]
+    best_table, best_followed, gain, basis = table, -np.inf, config.gain, None
+    result = FollowResult(candidate(table), start)
+    for _ in range(config.rounds):
+        followed, highest, errors, runs = [], [], [], []
+        for seed in seeds:
+            t, q, h, fz = play(candidate(table), seed)
+            tl, inner = learned_s(t)
+            followed.append(_followed_until(t, h, fz, tl, t_rec, h_rec, fz_rec, start, config))
+            highest.append(float(h.max()))
+            qr = np.stack([np.interp(tl, t_rec, q_rec[:, j]) for j in range(n)], axis=1)
+            errors.append((qr - q) * mask)
+            runs.append((t, inner))
+        played, times = min(runs, key=lambda r: len(r[0]))
+        error = np.mean([e[: len(times)] for e in errors], axis=0)
+        until = float(np.median(followed))
+        use = (played > start - WINDOW_RAMP_S) & (played < until - 0.1)
+        rms = float(np.sqrt(np.mean(error[use] ** 2))) if use.any() else float("nan")
+        kept = until >= best_followed - config.tolerance_s
+        result.rounds.append(FollowRound(tuple(followed), tuple(highest), rms, kept))
+        if on_round is not None:
+            on_round(result.rounds[-1])
+        if kept:
+            best_table, best_followed = table, max(best_followed, until)
+            basis = (times, error, use, start + warp * (until - start))
+        else:  # undone: a smaller step from the best round's errors
+            gain *= 0.5
+        times, error, use, until_inner = basis
+        moving, held = use & (times < last), use & (times >= last)
+        if moving.sum() < 3:
+            break
+        lead = warp * config.lead_s
+        step = np.stack(
+            [np.interp(knots + lead, times[moving], error[moving, j]) for j in range(n)], axis=1
+        )
+        if held.any():  # after its end the copy holds its last pose: the stand's mean error
+            step[knots >= last - config.knot_s] = error[held].mean(axis=0)
+        front = (knots + lead < until_inner - 0.1) & (
+            knots > max(start - WINDOW_RAMP_S, min(until_inner, last) - config.front_s)
+        )
+        step[~front] = 0.0
+        kernel = np.array([0.25, 0.5, 0.25])
+        step = np.stack([np.convolve(col, kernel, "same") for col in step.T], axis=1)
+        table = best_table + gain * step
+    result.model = candidate(best_table)
+    return result
