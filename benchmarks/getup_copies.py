@@ -31,7 +31,9 @@ processes of the README's league block: the motion played on a server while ``mi
    R2's), then a search over the stand alone, ``mimic improve AGAIN.mimic --window auto
    --seed 4``: the window from just before the copy is first upright in its own runs (or
    highest, if never upright) to its end, placed by ``mimic improve`` itself. Each search:
-   ``--budget`` evaluations.
+   ``--budget`` evaluations. Beside it, the second search's copy fitted until it follows its
+   recording after its roll (``mimic improve AGAIN.mimic --follow REC --budget 24 --episodes
+   3 --seed 3``; docs/getups.md, "Following the recording").
 4. ``mimic trial getup --compare ORIGINAL REACHED COMPENSATED IMPROVED --runs R --seed S``:
    the T1 in the league's simulation (``--world league``) and in ours, the NAO in ours; one
    table per ``--seed`` given (the copies are learned once).
@@ -64,6 +66,9 @@ IMPROVE_SEED, WINDOW_SEED, AGAIN_SEED = 3, 4, 5
 #: candidate on 16 episodes and writes the optimiser's final mean (docs/getups.md); its
 #: episodes are cheap (0.1-0.3 s each).
 SEARCH = {"t1": (4, 100, "best"), "nao": (16, 200, "mean")}
+#: ``mimic improve --follow`` on the T1's back copy after its two whole-motion searches:
+#: rounds and runs per round (docs/getups.md, "Following the recording").
+FOLLOW_ROUNDS, FOLLOW_RUNS = 24, 3
 
 
 def record(robot: str, side: str, out: Path) -> tuple[Path, float]:
@@ -113,7 +118,14 @@ def learn(
             "--seed", str(WINDOW_SEED), "-o", str(stand), "--force",
         )  # fmt: skip
         print("\n".join(line for line in lines if line.startswith("--window auto")), flush=True)
-        copies += [str(again), str(stand)]
+        followed = out / f"{robot}_{side}_followed.mimic"
+        lines = mimic(
+            "improve", str(again), "--objective", "getup", "--robot", robot, "--world", world,
+            "--follow", str(rec), "--budget", str(FOLLOW_ROUNDS), "--episodes",
+            str(FOLLOW_RUNS), "--seed", str(IMPROVE_SEED), "-o", str(followed), "--force",
+        )  # fmt: skip
+        print("\n".join(line for line in lines if line.startswith("--follow")), flush=True)
+        copies += [str(again), str(stand), str(followed)]
     return copies
 
 

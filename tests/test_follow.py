@@ -79,3 +79,33 @@ def test_follow_fits_a_black_box_get_up_copy_from_just_after_it_faces_the_ground
         from mimic.tasks.getup import GetupTrialConfig
 
         follow_recording(fitted, rec, legs, GetupTrialConfig(world="league-like"))
+
+
+def test_follow_refuses_the_search_options_it_would_ignore(tmp_path):
+    copy, rec, out = tmp_path / "copy.mimic", tmp_path / "seen.mcap", tmp_path / "fit.mimic"
+    save_model(_tiny_model(), copy)
+    rec.write_bytes(b"")
+    for extra, name in (
+        (["--save", str(tmp_path / "f.rrd")], "--save"),
+        (["--validate", "4"], "--validate"),
+        (["--pick", "mean", "--sigma", "0.5"], "--pick, --sigma"),
+    ):
+        said = CliRunner().invoke(
+            app,
+            [
+                "improve", str(copy), "--objective", "getup", "--follow", str(rec), "--budget",
+                "2", "-o", str(out), *extra,
+            ],
+        )  # fmt: skip
+        assert said.exit_code == 2, said.output
+        assert f"drop {name}" in said.output and "Traceback" not in said.output
+        assert not out.exists()
+    # The recording is an input: it is never the output, even with --force.
+    said = CliRunner().invoke(
+        app,
+        [
+            "improve", str(copy), "--objective", "getup", "--follow", str(rec), "--budget", "2",
+            "-o", str(rec), "--force",
+        ],
+    )  # fmt: skip
+    assert said.exit_code == 2 and rec.read_bytes() == b"", said.output

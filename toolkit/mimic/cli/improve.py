@@ -195,7 +195,7 @@ def _improve(
     if budget <= 0:
         raise MimicError(f"--budget must be > 0 evaluations, got {budget}")
     options.seed(seed)
-    check_outputs([out, save], force=force, inputs=[*spec_files(target), checkpoint])
+    check_outputs([out, save], force=force, inputs=[*spec_files(target), checkpoint, follow])
     options.finite(sigma, "--sigma", above=0)
     task = get_task(objective.value)
     settings = {}
@@ -226,6 +226,24 @@ def _improve(
             console.print(f"correction window: {lo:.2f}-{hi:.2f} s of the motion", highlight=False)
 
     if follow is not None:
+        search_only = {
+            "--validate": validate is not None,
+            "--compare": bool(compare),
+            "--pick": Pick(pick) != Pick.best,
+            "--fall-penalty": fall_penalty is not None,
+            "--sigma": sigma != 1.0,
+            "--population": population is not None,
+            "--checkpoint": checkpoint is not None,
+            "--save": save is not None,
+            "--ray": ray or ray_address is not None,
+            "--success-m": success_m is not None,
+            "--keep-worse": keep_worse,
+        }
+        given = [name for name, set_ in search_only.items() if set_]
+        if given:
+            raise MimicError(
+                f"--follow fits in rounds, without a search or validation: drop {', '.join(given)}"
+            )
         _follow(target, follow, task, budget, episodes, seed, joints, window, world, robot, out)
         return
     workers = check_workers(workers, ray or bool(ray_address))
