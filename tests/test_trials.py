@@ -218,3 +218,14 @@ def test_a_kick_episode_stops_at_its_live_cap_as_at_its_limit():
     limited = run_kick_episode(kick, 5, KickTrialConfig(episode_limit_s=6.0))
     assert capped == limited
     assert capped[1]["duration_s"] == pytest.approx(6.0)
+
+
+def test_a_spread_within_rounding_prints_as_zero():
+    """Runs that all stood up at the same cycle: their times' spread is rounding (1.9e-15 s),
+    which the table shows as 0, not in scientific notation wider than its column."""
+    from mimic.cli.trial import _ci_text, _number
+
+    assert _number("std_time_s", 1.87e-15) == "0" and _number("mean_time_s", 9.32) == "9.32"
+    row = {"t_ci_low": 9.32 - 1.8e-15, "t_ci_high": 9.32 + 1.8e-15}
+    assert _ci_text(row, "t", "half") == "±0"
+    assert _ci_text({"t_ci_low": 9.0, "t_ci_high": 9.5}, "t", "half") == "±0.25"

@@ -198,12 +198,23 @@ def _ci_text(row: dict, column: str, how: str) -> str:
         return ""
     if how.startswith("range"):
         return f"{low:.0f}-{high:.0f}" + ("%" if how.endswith("%") else "")
-    return f"±{(high - low) / 2:.2g}"
+    return f"±{_rounding_to_zero((high - low) / 2):.2g}"
+
+
+def _rounding_to_zero(value: float) -> float:
+    """0 for a value within rounding of it: the spread of runs that all took the same time
+    comes out as 1.9e-15 s, not 0."""
+    return 0.0 if abs(value) < _ROUNDING else value
+
+
+#: Below this a printed spread or mean is floating-point rounding, not a measurement.
+_ROUNDING = 1e-9
 
 
 def _number(column: str, value) -> str:
     if not isinstance(value, float):
         return str(value)
+    value = _rounding_to_zero(value)
     return f"{value:.2f}" if column.endswith("_ratio") else f"{value:.3g}"
 
 
