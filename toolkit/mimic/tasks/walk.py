@@ -294,15 +294,14 @@ class WalkTask(TrialTask):
         Column("mean_y_error_m", "Y err m", "mean_y_error_m"),
         Column("std_y_error_m", "std"),
         Column("runs_fell", "runs fell", "fall_rate_pct", "range %"),
-        Column("falls", "falls"),
         Column("mean_speed_m_s_ratio", "speed ratio", "mean_speed_m_s_ratio"),
     )
     legend = (
         "95% CI: 95 % confidence interval of the means (t, +- half width) and of the share "
         "of runs that fell (Wilson). Ratios: against the first variant, with their 95 % "
         "interval (delta method, runs paired by seed). A run that falls ends there "
-        "(--disturb none) or gets up and walks on (game, hard; falls: every fall, failed "
-        "get-ups too)."
+        "(--disturb none) or gets up and walks on (game, hard; the summary's falls count "
+        "every fall, failed get-ups too)."
     )
     ratio_columns = ("mean_speed_m_s", "std_speed_m_s", "mean_y_error_m", "std_y_error_m")
     ratio_sources = {"mean_speed_m_s": "speed_m_s"}
