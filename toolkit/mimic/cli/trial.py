@@ -201,14 +201,14 @@ def _ci_text(row: dict, column: str, how: str) -> str:
     return f"±{_rounding_to_zero((high - low) / 2):.2g}"
 
 
-def _rounding_to_zero(value: float) -> float:
-    """0 for a value within rounding of it: the spread of runs that all took the same time
-    comes out as 1.9e-15 s, not 0."""
-    return 0.0 if abs(value) < _ROUNDING else value
-
-
 #: Below this a printed spread or mean is floating-point rounding, not a measurement.
 _ROUNDING = 1e-9
+
+
+def _rounding_to_zero(value: float) -> float:
+    """0 for a value within rounding of it: the spread of runs that all took the same time
+    comes out of floating-point sums as about 1e-15, not 0."""
+    return 0.0 if abs(value) < _ROUNDING else value
 
 
 def _number(column: str, value) -> str:
