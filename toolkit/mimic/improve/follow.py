@@ -32,8 +32,8 @@ recording reached, sample by sample, and the references corrected until they agr
    the gain halved.
 5. The copy's last pose starts as the compensated reference of the recording's last
    ``stand_s`` (it stands still there; ``learn.train.pd_compensated_targets``), blended in
-   over ``stand_blend_s``: the whole-motion searches had moved the copies' knees and ankles
-   0.1 rad from it, and they fell back from a stand they had reached.
+   over the copy's last ``stand_blend_s``: the whole-motion searches had moved the copies'
+   knees and ankles 0.1 rad from it, and they fell back from a stand they had reached.
 
 The result is an ordinary windowed model (``model.windowed.WindowedModel`` with an offset
 track, knots every ``knot_s``); a stand window (``--window auto``) can go on top.
@@ -43,8 +43,11 @@ R3, on their S1b copies, 24 rounds of 3 runs): every copy followed its recording
 its torso tipped (7.3-8.0 s) as it was; fitted, R2's and R3's rise upright in 6 of 6
 league-like development runs and R1's in 3, where no S1b copy was ever upright; in the
 league at trial seeds 7000 and 8000 R2's stood 6/10 and 6/10 (8.66 s, 0.93x), R1's 2/10 and
-0/10, R3's 0/10 twice (upright in 17 of 20, then fell). The stand after the rise is what is
-left: a ``--window auto`` search on top (91 evaluations) made R2's worse (4 to 1 of 6).
+0/10, R3's 0/10 twice (upright in 17 of 20, then fell), its last pose blended in over
+0.3 s; over 1.0 s (the default since) R2's stood 9, 9, 10 and 9 of 10 at seeds 7000, 8000,
+9000 and 9100, R1's 1-2, R3's and a fourth recording's (R4, which never rises) none. The
+stand after the rise is what is left: a ``--window auto`` search on top (91 evaluations)
+made R2's worse (4 to 1 of 6).
 """
 
 from __future__ import annotations
@@ -91,10 +94,11 @@ class FollowConfig:
     height_tolerance_m: float = 0.08
     diverge_s: float = 0.3
     time_tolerance_s: float = 0.2
-    # The recording's last ``stand_s`` [s] are its stand: the copy's last pose starts as their
-    # compensated reference (mean), blended in over ``stand_blend_s`` before its end (0: off).
+    # The recording's last ``stand_s`` [s] are its stand (0: off): the copy's last pose
+    # starts as their compensated reference (mean), blended in over ``stand_blend_s`` [s]
+    # before its end (over 0.3 s the copies fell back from the stand more often).
     stand_s: float = 1.0
-    stand_blend_s: float = 0.3
+    stand_blend_s: float = 1.0
     tolerance_s: float = 0.04
     # Window start [s of the copy's motion]; None: after the copy first faced the ground.
     start_s: float | None = None
@@ -102,6 +106,8 @@ class FollowConfig:
     def __post_init__(self) -> None:
         if self.rounds < 1 or self.runs < 1:
             raise MimicError(f"--follow needs >= 1 round and run, got {self.rounds}, {self.runs}")
+        if self.stand_s > 0 and not self.stand_blend_s > 0:
+            raise MimicError(f"the stand's blend takes > 0 s, got {self.stand_blend_s}")
 
 
 @dataclass(frozen=True)
