@@ -33,7 +33,8 @@ processes of the README's league block: the motion played on a server while ``mi
    highest, if never upright) to its end, placed by ``mimic improve`` itself. Each search:
    ``--budget`` evaluations. Beside it, the second search's copy fitted until it follows its
    recording after its roll (``mimic improve AGAIN.mimic --follow REC --budget 24 --episodes
-   3 --seed 3``; docs/getups.md, "Following the recording").
+   3 --seed 3``; docs/getups.md, "Following the recording"), and that copy's stand searched
+   (``--window auto --seed 4``).
 4. ``mimic trial getup --compare ORIGINAL REACHED COMPENSATED IMPROVED --runs R --seed S``:
    the T1 in the league's simulation (``--world league``) and in ours, the NAO in ours; one
    table per ``--seed`` given (the copies are learned once).
@@ -125,7 +126,13 @@ def learn(
             str(FOLLOW_RUNS), "--seed", str(IMPROVE_SEED), "-o", str(followed), "--force",
         )  # fmt: skip
         print("\n".join(line for line in lines if line.startswith("--follow")), flush=True)
-        copies += [str(again), str(stand), str(followed)]
+        followed_stand = out / f"{robot}_{side}_followed_stand.mimic"
+        lines = mimic(
+            "improve", str(followed), *search, "--window", "auto", "--budget", str(budget),
+            "--seed", str(WINDOW_SEED), "-o", str(followed_stand), "--force",
+        )  # fmt: skip
+        print("\n".join(line for line in lines if line.startswith("--window auto")), flush=True)
+        copies += [str(again), str(stand), str(followed), str(followed_stand)]
     return copies
 
 
