@@ -17,6 +17,7 @@ __all__ = [
     "rotate",
     "yaw_from_quat",
     "torso_pitch_roll",
+    "forward_axis_z",
     "in_robot_frame",
     "one_hemisphere",
     "rot_x",
@@ -40,6 +41,14 @@ def yaw_from_quat(q_wxyz) -> float:
     """Heading [rad] of the body x axis projected on the ground (0: along field x)."""
     w, x, y, z = _floats(q_wxyz)
     return math.atan2(2 * (w * z + x * y), 1 - 2 * (y * y + z * z))
+
+
+def forward_axis_z(q_wxyz):
+    """z component [-1, 1] of the body's forward (x) axis in the field frame: negative when
+    the torso faces the ground. One quaternion (4,): a float; (N, 4): (N,)."""
+    q = np.asarray(q_wxyz, dtype=float)
+    w, x, y, z = q.tolist() if q.ndim == 1 else np.moveaxis(q, -1, 0)
+    return 2 * (x * z - w * y)
 
 
 def torso_pitch_roll(q_wxyz, yaw_rad: float | None = None) -> tuple[float, float]:

@@ -60,6 +60,7 @@ import numpy as np
 from mimic.agents.neural_player import NeuralPlayer
 from mimic.episode.observers import Observer
 from mimic.errors import MimicError
+from mimic.geometry import forward_axis_z
 from mimic.improve.correction import WINDOW_RAMP_S, WindowedModel, windowed_model
 from mimic.learn.dataset import dataset_from_file
 from mimic.learn.train import pd_compensated_targets, recorded_torso
@@ -182,11 +183,6 @@ def _learned_rate(model: MotionModel) -> float:
     return rate
 
 
-def _forward_z(quat_wxyz: np.ndarray) -> np.ndarray:
-    w, x, y, z = np.asarray(quat_wxyz, float).T
-    return 2 * (x * z - w * y)
-
-
 def _followed_until(t, h, fz, tl, t_rec, h_rec, fz_rec, start_s, config: FollowConfig) -> float:
     """The time [s] the run's torso parted from the recording's (its end: never): off by
     more than the tolerances from the recording's torso at every time within
@@ -235,7 +231,7 @@ def follow_recording(
     if list(recorded.joint_names) != list(model.joint_names):
         raise MimicError(f"--follow: {recording} is not of this copy's robot ({model.robot})")
     t_rec, q_rec = recorded.time_s, recorded.angles_rad
-    h_rec, fz_rec = torso[0][:, 2], _forward_z(torso[1])
+    h_rec, fz_rec = torso[0][:, 2], forward_axis_z(torso[1])
     cut0 = float((model.metadata.get("cut_s") or [0.0])[0])
     scale = _learned_rate(model)  # learned s per played s
     n = model.num_joints

@@ -15,6 +15,7 @@ import math
 
 import numpy as np
 
+from mimic.geometry import forward_axis_z
 from mimic.robot.model import RobotDescription
 
 __all__ = ["START_POSTURES", "start_posture", "LYING_TILT_RAD"]
@@ -33,8 +34,7 @@ def start_posture(torso_pos_m, torso_quat_wxyz, robot: RobotDescription) -> str:
     w, x, y, z = w / norm, x / norm, y / norm, z / norm
     up_z = 1 - 2 * (x * x + y * y)
     if up_z < math.cos(LYING_TILT_RAD):
-        forward_z = 2 * (x * z - w * y)
-        return "lying_front" if forward_z < 0 else "lying_back"
+        return "lying_front" if forward_axis_z([w, x, y, z]) < 0 else "lying_back"
     if float(np.asarray(torso_pos_m, dtype=float)[2]) < robot.falls.upright_above_m:
         return "sitting"
     return "standing"

@@ -15,7 +15,7 @@ import numpy as np
 
 from mimic.errors import MimicError
 from mimic.floats import acos_domain
-from mimic.geometry import in_robot_frame, yaw_from_quat
+from mimic.geometry import forward_axis_z, in_robot_frame, yaw_from_quat
 from mimic.robot.actuators import JointCommand
 from mimic.robot.model import RobotDescription
 from mimic.world.field import Field
@@ -223,8 +223,7 @@ class World(ABC):
 
     def torso_forward_z(self) -> float:
         """z component of the torso's forward axis: negative when it faces the ground."""
-        w, x, y, z = self.torso_quat_wxyz().tolist()
-        return 2 * (x * z - w * y)
+        return forward_axis_z(self.torso_quat_wxyz())
 
     def _tilt_rad(self) -> float:
         return math.acos(acos_domain(self.torso_up_z()))
