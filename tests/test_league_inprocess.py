@@ -20,6 +20,7 @@ import math
 import numpy as np
 import pytest
 from _league_helpers import truth_server_config
+from rcsssmj.games.soccer.sim.soccer_referee import SoccerReferee
 from typer.testing import CliRunner
 
 from mimic.agents.registry import agent_spec
@@ -30,6 +31,7 @@ from mimic.league.client import format_command, parse_perception, wire_targets_r
 from mimic.league.names import wire_names
 from mimic.robot.actuators import JointCommand
 from mimic.robot.registry import get_robot
+from mimic.world import league_simulation
 from mimic.world.base import CYCLE_S
 from mimic.world.league_inprocess import LeagueInProcessWorld
 from mimic.world.league_server import LeagueWorld
@@ -250,6 +252,43 @@ def test_a_placed_ball_lies_where_it_was_put_and_the_referee_returns_one_over_a_
             world.step(JointCommand.references(T1.stand_pose()))
         assert world.play_mode() != "BeforeKickOff"  # a throw-in
         assert abs(world.ball_pos_m()[1]) < beyond - 0.4  # put back on the line
+
+
+def _referee_story(monkeypatch, referee) -> list:
+    """Play modes, ball and torso positions, cycle by cycle, of a ball put over the touch
+    line (a throw-in, left to time out) and then into the right goal (a goal, the pause, a
+    kick-off, in which our robot on the centre spot is misplaced and moved off the field, left
+    to time out), refereed by ``referee``."""
+    monkeypatch.setattr(league_simulation, "_Referee", referee)
+    story = []
+    with LeagueInProcessWorld("t1") as world:
+        world.reset()
+        # Put down on the centre spot, the robot touches the ball: the referee then knows
+        # whose throw-in it is.
+        world.place_robot(0.0, 0.0, 0.0, T1.stand_pose())
+        hold = JointCommand.references(T1.stand_pose())
+        touch_line, goal = (3.0, world.field.width_m / 2 + 0.5), (world.field.length_m / 2 + 0.3, 0)
+        for ball_xy, cycles in ((touch_line, 900), (goal, 1000)):
+            world.place_ball(*ball_xy)
+            for _ in range(cycles):
+                world.step(hold)
+                story.append(
+                    (world.play_mode(), *world.ball_pos_m().tolist(), *world.torso_pos_m().tolist())
+                )
+    return story
+
+
+def test_the_referees_shortcuts_referee_as_rcsssmj_does(monkeypatch):
+    # league_simulation._Referee skips the timeouts where a play mode has none, the illegal
+    # defence where no team can crowd its area and the placement rules outside set plays:
+    # the same play modes, ball and robot, cycle by cycle, as rcsssmj's referee through a
+    # throw-in, a goal and a kick-off, each left to time out (15 s; after a goal 3 s).
+    ours = _referee_story(monkeypatch, league_simulation._Referee)
+    theirs = _referee_story(monkeypatch, SoccerReferee)
+    modes = {mode for mode, *_ in ours}
+    assert {"Goal_Left", "KickOff_Right", "PlayOn", "KickIn_Right"} <= modes, modes
+    assert max(abs(y) for *_, y, _ in ours[-100:]) > 20  # misplaced at the kick-off
+    assert ours == theirs
 
 
 def test_the_league_world_is_in_process_and_the_server_is_league_server():

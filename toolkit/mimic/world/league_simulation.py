@@ -1,18 +1,26 @@
 """rcsssmj's soccer simulation as ``LeagueInProcessWorld`` steps it in mimic's process.
 
 ``LeagueSimulation`` is rcsssmj's ``SoccerSimulation`` (the server's world MJCF, solver options,
-robot models, rule book, field and referee) with three changes that alter no result, only
-time and trouble: no audio step (nobody speaks; the audio engine changes only what a
-microphone hears), the ball's touches (which the referee judges) found through a table made
-once per model instead of a name lookup per contact each cycle, and a joining robot's controls
-zeroed before the first forward pass (a server leaves them uninitialised until the agent's
-first command, and MuJoCo warns about them into ``MUJOCO_LOG.TXT`` in the working directory).
+robot models, rule book, field and referee) with changes that alter no result, only time and
+trouble: no audio step (nobody speaks; the audio engine changes only what a microphone hears);
+the ball's touches (which the referee judges) found through a table made once per model
+instead of a name lookup per contact each cycle; two of the referee's per-cycle checks skipped
+where they cannot act (``_Referee``); the simulation objects' hooks called from a list made
+once per model instead of a chain built twice a cycle; and a joining robot's controls zeroed
+before the first forward pass (a server leaves them uninitialised until the agent's first
+command, and MuJoCo warns about them into ``MUJOCO_LOG.TXT`` in the working directory).
+
+The referee's and the ball's overrides restate rcsssmj 0.2.1's code (``pyproject.toml`` pins
+that version); ``tests/test_league_inprocess.py`` checks perceptions against a hosted server
+bit for bit, so a version whose rules differ fails there.
 """
 
 from __future__ import annotations
 
 import mujoco
 from rcsssmj.games.soccer.game_phase import GamePhase
+from rcsssmj.games.soccer.play_mode import PlayMode
+from rcsssmj.games.soccer.sim import soccer_referee
 from rcsssmj.games.soccer.sim.soccer_ball import SoccerBall
 from rcsssmj.games.soccer.sim.soccer_referee import SoccerReferee
 from rcsssmj.games.soccer.sim.soccer_sim import SoccerSimulation
@@ -57,6 +65,56 @@ class _Ball(SoccerBall):
             self._set_active_contact(None, None, mj_data.time)
 
 
+#: The play modes with a timeout in rcsssmj 0.2.1's ``SoccerReferee._check_timeouts`` (set
+#: plays, goal kicks, the pause after a goal): in any other its checks are all false.
+_TIMED_PLAY_MODES = frozenset(
+    PlayMode[name]
+    for side in ("LEFT", "RIGHT")
+    for name in (
+        f"KICK_OFF_{side}",
+        f"THROW_IN_{side}",
+        f"CORNER_KICK_{side}",
+        f"FREE_KICK_{side}",
+        f"DIRECT_FREE_KICK_{side}",
+        f"GOAL_KICK_{side}",
+        f"GOAL_{side}",
+    )
+)
+
+#: The play modes with placement rules in rcsssmj 0.2.1's
+#: ``SoccerReferee._penalize_misplaced_players`` (set plays): in any other it checks nothing.
+_PLACED_PLAY_MODES = _TIMED_PLAY_MODES - {PlayMode.GOAL_LEFT, PlayMode.GOAL_RIGHT}
+
+
+class _Referee(SoccerReferee):
+    """rcsssmj's referee; three per-cycle checks skipped where they cannot act:
+
+    * the timeouts in a play mode that has none (``BeforeKickOff``, in which mimic's worlds
+      play, ``PlayOn``, offside, game over): every test in ``_check_timeouts`` is false there;
+    * the illegal defence when neither team has more players than may stand in its goalie
+      area: no area can then hold too many, so nobody can be penalised. The check's entry
+      times are read only for a penalty; a team that grows past the limit is checked in
+      full from then on (mimic's in-process world has one player, so none does);
+    * the players' placement in a play mode without placement rules (all but set plays).
+    """
+
+    def _check_timeouts(self) -> None:
+        if self.game.game_state.play_mode in _TIMED_PLAY_MODES:
+            super()._check_timeouts()
+
+    def _check_illegal_defense(self) -> None:
+        most = soccer_referee._ILLEGAL_DEFENSE_MAX_PLAYERS
+        if len(self.game.left_players) > most or len(self.game.right_players) > most:
+            super()._check_illegal_defense()
+            return
+        violations = self._illegal_defense_violation_steps
+        violations["left"] = violations["right"] = 0
+
+    def _penalize_misplaced_players(self) -> None:
+        if self.game.game_state.play_mode in _PLACED_PLAY_MODES:
+            super()._penalize_misplaced_players()
+
+
 class LeagueSimulation(SoccerSimulation):
     """rcsssmj's soccer simulation with changes that alter no result: a step skips the audio
     engine once ``hearing`` is off (nobody speaks in mimic's worlds); a recompiled model's
@@ -74,7 +132,7 @@ class LeagueSimulation(SoccerSimulation):
         super().__init__(
             field=create_soccer_field(book.default_field_version.value),
             rules=book,
-            referee=SoccerReferee(),
+            referee=_Referee(),
             initial_game_phase=GamePhase.FIRST_HALF,
         )
         self.ball = _Ball()
@@ -83,11 +141,18 @@ class LeagueSimulation(SoccerSimulation):
         if self.hearing:
             super().step(monitor_commands)
             return
-        # BaseSimulation.step without a_step: pre-step, physics, post-step (monitor commands,
-        # referee), frame count.
-        self._pre_step()
-        mujoco.mj_step(self._mj_model, self._mj_data, self.n_substeps)
-        self._post_step(monitor_commands)
+        # BaseSimulation.step without a_step: pre-step, physics, post-step (the objects'
+        # hooks, monitor commands, referee), frame count; the objects as ``sim_objects``
+        # lists them (ball, left players, right players), from the list made at binding.
+        m, d, objects = self._mj_model, self._mj_data, self._objects
+        for obj in objects:
+            obj.pre_step(m, d)
+        mujoco.mj_step(m, d, self.n_substeps)
+        for obj in objects:
+            obj.post_step(m, d)
+        for command in monitor_commands:
+            command.perform(self)
+        self.referee.referee()
         self._frame_id += 1
 
     def _recompile(self) -> None:
@@ -101,3 +166,4 @@ class LeagueSimulation(SoccerSimulation):
         for obj in self.sim_objects:
             obj.bind(self._mj_model, self._mj_data)
         self._update_body_children_map()
+        self._objects = tuple(self.sim_objects)
