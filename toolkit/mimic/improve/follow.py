@@ -55,9 +55,10 @@ league at trial seeds 7000 and 8000 R2's stood 6/10 and 6/10 (8.66 s, 0.93x), R1
 0.3 s; over 1.0 s (the default since) R2's stood 9, 9, 10 and 9 of 10 at seeds 7000, 8000,
 9000 and 9100, R1's 1-2, R3's and a fourth recording's (R4, which never rises) none. A stand
 window search on top (``--window auto``, 91 evaluations) made R3's stand 9 of 10 twice. With
-the torso term's fit beside (step 6; 2026-11-28, night) the chain's copies stood in 6 of 6
-development runs for all four recordings (R1 1, R4 0 before); docs/getups.md has the
-league's numbers.
+the torso term's fit beside (step 6; 2026-11-28, night) the chain's last copies (followed,
+then the stand searched) stood in 6 of 6 development runs for all four recordings (R1's 1,
+R4's none before) and in 9 or 10 of 10 in the league at unseen seeds 9400 and 9500, as did a
+fifth recording's, fresh (10 of 10, followed alone too).
 """
 
 from __future__ import annotations
