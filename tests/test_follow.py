@@ -109,3 +109,88 @@ def test_follow_refuses_the_search_options_it_would_ignore(tmp_path):
         ],
     )  # fmt: skip
     assert said.exit_code == 2 and rec.read_bytes() == b"", said.output
+
+
+def test_a_hip_pitch_about_its_axis_turns_the_standing_torso_up_as_the_torso_term_assumes():
+    """The torso term adds the torso's pitch error to the hip pitch joints with the sign of
+    their axis's y: in the league-like world, the T1 standing with its hip pitch references
+    0.15 rad higher (both +y) ends with its forward axis higher than with its stand pose."""
+    from mimic.improve.follow import _hip_pitch_signs
+    from mimic.robot.actuators import JointCommand
+    from mimic.robot.registry import get_robot
+    from mimic.world.registry import open_world
+
+    t1 = get_robot("t1")
+    legs = [i for i, n in enumerate(t1.joint_names) if "Hip" in n or "Knee" in n]
+    signs = _hip_pitch_signs("t1", legs, t1.num_joints)
+    hips = [t1.joint_names.index(n) for n in ("Left_Hip_Pitch", "Right_Hip_Pitch")]
+    assert np.flatnonzero(signs).tolist() == hips and np.all(signs[hips] == 1.0)
+    ends = []
+    for offset in (0.0, 0.15):
+        with open_world("league-like", "t1") as world:
+            world.reset()
+            world.place_robot(0, 0, 0, t1.stand_pose())
+            world.place_ball(0.0, 3.0)
+            command = JointCommand.references(np.asarray(t1.stand_pose()) + offset * signs)
+            for _ in range(25):  # 0.5 s
+                world.step(command)
+            ends.append(world.torso_forward_z())
+    assert ends[1] > ends[0] + 0.05, ends
+
+
+def test_the_torso_term_moves_the_fitted_hips_toward_the_recordings_lean(tmp_path):
+    """A recording whose torso is pitched up 0.25 rad more than its joints make the copy's:
+    the follow fits joints only, then with the torso term, and keeps the torso term's fit on
+    a tie; its hip pitch track is higher than the joints-only fit's (``torso_gain`` 0) where
+    the term acted, and only the hips' tracks differ."""
+    from mimic.improve.follow import FollowConfig, follow_recording
+    from mimic.tasks.getup import GetupTrialConfig
+
+    rec, lean = tmp_path / "seen.mcap", tmp_path / "lean.mcap"
+    _black_box_getup(rec)
+    ds = training_dataset(rec, L.JOINT_STATES, "reached", start_s=0.0, end_s=3.9)
+    copy = train_model(ds, TrainConfig(epochs=40))
+    _leaning_back(rec, lean, 0.25)
+    legs = [i for i, n in enumerate(copy.joint_names) if any(k in n for k in ("Hip", "Knee"))]
+    hips = [copy.joint_names.index(n) for n in ("Left_Hip_Pitch", "Right_Hip_Pitch")]
+    trial = GetupTrialConfig(world="league-like")
+    plain, torso = (
+        follow_recording(copy, lean, legs, trial, FollowConfig(rounds=2, runs=1, torso_gain=g))
+        for g in (0.0, 1.0)
+    )
+    assert [r.torso_gain for r in plain.rounds] == [0.0, 0.0] and plain.torso_gain == 0.0
+    assert [r.torso_gain for r in torso.rounds] == [0.0, 0.0, 1.0, 1.0]
+    assert torso.best_followed_s == plain.best_followed_s  # a tie: the torso term's fit
+    assert (
+        torso.torso_gain == 1.0
+        and "2 rounds with the torso term, the further of 2 fits" in torso.describe()
+    )
+    more = torso.model.track_offsets_rad[:, hips] - plain.model.track_offsets_rad[:, hips]
+    assert np.all(more >= -1e-12) and more.max() > 0.1, more.max()
+    others = [i for i in range(copy.num_joints) if i not in hips]
+    assert np.array_equal(
+        torso.model.track_offsets_rad[:, others], plain.model.track_offsets_rad[:, others]
+    )
+    with pytest.raises(MimicError, match="torso"):
+        FollowConfig(torso_gain=-1.0)
+
+
+def _leaning_back(src, out, lean_rad):
+    """``src``'s joints and torso, the torso pitched up ``lean_rad`` more throughout."""
+    from test_getups import T1, _pitch_quat
+
+    from mimic.geometry import forward_axis_z
+    from mimic.learn.dataset import dataset_from_file
+    from mimic.learn.train import recorded_torso
+    from mimic.recording.writer import RecordingWriter
+
+    seen = dataset_from_file(src, L.JOINT_STATES)
+    pos, quat = recorded_torso(src, seen)
+    info = L.RecordingInfo(motion="others_3", agent="league player", robot="t1", world="league")
+    with RecordingWriter(out, info) as w:
+        for k, tk in enumerate(seen.time_s):
+            ns = int(round(tk * L.NS_PER_S))
+            w.write_joints(ns, seen.angles_rad[k])
+            pitch = -np.arcsin(forward_axis_z(quat[k]))  # positive: leaning forward
+            turned = np.array([_pitch_quat(pitch - lean_rad)])
+            w.write_tf(ns, [L.WORLD_FRAME], [T1.root_link], pos[k][None], turned)

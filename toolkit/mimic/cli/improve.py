@@ -132,8 +132,10 @@ def _improve(
             metavar="REC.mcap",
             help="--objective getup, a learned copy of REC: fit its references in the trial's "
             "simulation until it follows REC (iterative learning control, from just after it "
-            "first lies face down to its end, at REC's own speed); --budget: rounds, "
-            "--episodes: runs per round (default 3). No search, no validation.",
+            "first lies face down to its end, at REC's own speed; fitted on the joints alone "
+            "and with REC's torso pitch on the hips, the fit that follows further kept); "
+            "--budget: rounds per fit, --episodes: runs per round (default 3). No search, no "
+            "validation.",
         ),
     ] = None,
     pick: Annotated[
@@ -334,6 +336,7 @@ def _follow(target, recording, task, rounds, runs, seed, joints, window, world, 
         console.print(
             f"round {len(shown) + 1}: followed to {followed} s, torso highest "
             f"{max(r.highest_m):.2f} m, error {r.error_rad:.3f} rad"
+            + (" (torso term)" if r.torso_gain else "")
             + ("" if r.kept else " (undone)"),
             highlight=False,
         )
