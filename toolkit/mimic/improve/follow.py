@@ -251,9 +251,9 @@ def _hip_pitch_signs(robot: str, joints: list[int], n: int) -> np.ndarray:
     """(n,): for each of ``joints`` that is a hip pitch joint, the sign by which it pitches
     the torso up (its axis's y: with the legs still, a hip pitch about +y turns the torso's
     forward axis up); 0 elsewhere."""
-    signs = np.zeros(n)
+    signs, specs = np.zeros(n), get_robot(robot).joints
     for i in joints:
-        spec = get_robot(robot).joints[i]
+        spec = specs[i]
         name = spec.name.lower()
         if "hip" in name and "pitch" in name:
             signs[i] = float(np.sign(spec.axis[1]))
