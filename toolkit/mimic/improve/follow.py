@@ -352,7 +352,7 @@ def follow_recording(
         for _ in range(config.rounds):
             followed, highest, errors, runs = [], [], [], []
             for seed in seeds:
-                t, q, h, fz = play(candidate(table), seed)
+                t, q, h, fz = play_table(table, seed)
                 tl, inner = learned_s(t)
                 followed.append(_followed_until(t, h, fz, tl, t_rec, h_rec, fz_rec, start, config))
                 highest.append(float(h.max()))
@@ -404,6 +404,16 @@ def follow_recording(
     # (a kneel at its balance point); the fit that follows further is kept, a tie (within
     # ``tolerance_s``) goes to the torso term's.
     first = table
+    first_plays: dict[int, tuple] = {}
+
+    def play_table(table, seed):
+        """A round's run; both fits start from ``first``, whose runs are played once."""
+        if table is not first:
+            return play(candidate(table), seed)
+        if seed not in first_plays:
+            first_plays[seed] = play(candidate(table), seed)
+        return first_plays[seed]
+
     result = FollowResult(candidate(table), start)
     gains = (0.0, config.torso_gain) if config.torso_gain > 0 and hips.any() else (0.0,)
     best_table, best_followed = table, -np.inf
