@@ -93,6 +93,52 @@ def test_the_first_episode_counts_even_past_a_tiny_budget():
     assert len(batch.episodes) == 1
 
 
+def checkpointed_episode(spec, seed, config):
+    """``fake_episode`` with a row every 7 s of it, each a checkpoint (as a kick episode's
+    kicks): had it ended there, those rows and that duration. Plays to its config's limit
+    only, as a kick episode does."""
+    natural_s = 10.0 + seed % 50
+    duration_s = min(natural_s, config.episode_limit_s)
+    ends = [t for t in np.arange(7.0, natural_s + 1e-9, 7.0) if t <= duration_s]
+    rows = [dict(seed=seed, at_s=float(t)) for t in ends]
+    checkpoints = [
+        (float(t), rows[: k + 1], dict(duration_s=float(t), seed=seed, cut=True))
+        for k, t in enumerate(ends)
+    ]
+    summary = dict(duration_s=duration_s, seed=seed, cut=False, checkpoints=checkpoints)
+    return rows, summary
+
+
+def test_the_episode_that_reaches_the_budget_counts_up_to_its_last_checkpoint_within_it():
+    """Whole episodes while they fit; the one that would end past the budget counts its rows
+    up to its last checkpoint within it, and ends the trial: the same in a pool (where it
+    may play on past its cap before the ones before it end) as in one process."""
+
+    def trial(executor, budget_s=190.0):
+        return run_episodes(
+            checkpointed_episode, None, _Limited(), budget_s=budget_s, seed=3, executor=executor
+        )
+
+    inline = trial(InlineExecutor())
+    whole = [e for e in inline.episodes if not e["cut"]]
+    (cut,) = [e for e in inline.episodes if e["cut"]]
+    assert inline.episodes[-1] is cut and "checkpoints" not in cut
+    # The cut episode: its own seed, its first rows, its last checkpoint within the budget.
+    left_s = 190.0 - sum(e["duration_s"] for e in whole)
+    natural_s = 10.0 + cut["seed"] % 50
+    assert whole and 0 < cut["duration_s"] <= left_s < natural_s
+    assert left_s - cut["duration_s"] < 7.0
+    counted = [r for r in inline.rows if r["seed"] == cut["seed"]]
+    assert [r["at_s"] for r in counted] == list(np.arange(7.0, cut["duration_s"] + 1e-9, 7.0))
+    assert inline.simulated_s <= 190.0
+    with PoolExecutor(2) as pool:
+        pooled = trial(pool)
+    assert pooled.rows == inline.rows and pooled.episodes == inline.episodes
+    # Nothing of it within the budget: the first episode counts whole, a later one not.
+    first = trial(InlineExecutor(), budget_s=3.0)
+    assert [e["cut"] for e in first.episodes] == [False]
+
+
 def test_workers_are_capped_at_the_cores_with_one_line():
     cores = available_cores()
     assert resolve_workers(None) == (cores, None)

@@ -220,6 +220,42 @@ def test_a_kick_episode_stops_at_its_live_cap_as_at_its_limit():
     assert capped[1]["duration_s"] == pytest.approx(6.0)
 
 
+def test_a_kick_trial_counts_the_kicks_that_ended_within_its_budget():
+    """The episode the budget ends in counts up to its last kick that ended within the
+    budget: those are the first kicks of the same episode played on its own, and the trial
+    is the same on two workers, where that episode starts before the one before it ends and
+    plays under a live cap."""
+    from mimic.tasks.kick import KickTrialConfig, run_kick_episode
+    from mimic.trials.executors import InlineExecutor, PoolExecutor
+    from mimic.trials.parallel import run_episodes
+
+    kick, budget_s = AgentSpec("motion", "kick_right"), 260.0
+
+    def trial(executor):
+        return run_episodes(
+            run_kick_episode, kick, KickTrialConfig(), budget_s=budget_s, seed=2, executor=executor
+        )
+
+    one = trial(InlineExecutor())
+    *whole, cut = one.episodes
+    assert [e["end"] for e in whole] == ["goal", "goal"] and cut["end"] == "budget"
+    left_s = budget_s - sum(e["duration_s"] for e in whole)
+    assert 0 < cut["duration_s"] <= left_s and one.simulated_s <= budget_s
+    alone_rows, alone = run_kick_episode(kick, derive_seed(2, cut["episode"]), KickTrialConfig())
+    assert alone["duration_s"] > left_s  # on its own it plays past what the budget left
+    counted = [r for r in one.rows if r["episode"] == cut["episode"]]
+    assert 0 < cut["kicks"] == len(counted) < len(alone_rows)
+    assert [{k: v for k, v in r.items() if k != "episode"} for r in counted] == alone_rows[
+        : len(counted)
+    ]
+    # Its next kick had not ended when the budget did.
+    next_kick_ended_s = alone["checkpoints"][len(counted)][0]
+    assert next_kick_ended_s > left_s
+    with PoolExecutor(2) as pool:
+        two = trial(pool)
+    assert two.rows == one.rows and two.episodes == one.episodes
+
+
 def test_a_spread_within_rounding_prints_as_zero():
     """Runs that all stood up at the same cycle: their times' spread is rounding (1.9e-15 s),
     which the table shows as 0, not in scientific notation wider than its column."""

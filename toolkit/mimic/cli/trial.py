@@ -136,7 +136,7 @@ class TrialProgress:
 
     def _finish(self, label: str) -> None:
         """Stop the variant's clock and bar where it ended (its budget may end short of the
-        bar's total: whole episodes only)."""
+        bar's total: whole episodes, or kicks, that ended within it only)."""
         task = self._tasks.get(label)
         if task is not None:
             done = self._bar.tasks[task].completed
@@ -231,7 +231,8 @@ def _world_text(result) -> str:
 
 
 def _minutes_text(result, minutes: float | None) -> str:
-    """The simulated minutes each variant ran (whole episodes, so not the budget):
+    """The simulated minutes each variant counted (up to its last episode or kick that ended
+    within the budget, so not the budget):
     ``1.26-1.9 simulated min per variant (2 asked)``."""
     ran = [v for v in result.summary.get_column("simulated_min").to_list() if v is not None]
     if not ran:

@@ -24,6 +24,7 @@ from dataclasses import dataclass, field, fields
 from typing import Any, ClassVar
 
 from mimic.agents.registry import AgentSpec
+from mimic.tasks.budget import CHECKPOINTS
 
 __all__ = [
     "TaskOption",
@@ -77,6 +78,7 @@ class EpisodeBatch:
     task: str | None = None
 
     def add(self, rows: list[dict], summary: dict) -> None:
+        summary.pop(CHECKPOINTS, None)  # the trial's to read (``trials.parallel``), not a column
         trace = summary.pop("trace", None)
         if trace is not None:
             self.traces[summary["episode"]] = trace

@@ -1,16 +1,21 @@
-"""An episode's live time limit: what a trial's budget still leaves it, read while it plays.
+"""An episode's live time limit: what a trial's budget still leaves it, read while it plays;
+and the points where an episode could have ended, so that a trial can count it up to there.
 
 A trial with a simulated-time budget counts episodes in index order until one would end past
-the budget. On several workers an episode starts before the ones before it have ended, so
-when it starts the trial knows only an upper bound of what the budget will leave it; the
-bound shrinks as those episodes end (and drops to zero when the trial learns the episode
-cannot count). An episode that plays in such a trial reads ``episode_cap_s()`` at each of
-its decisions (a kick, a walk) and stops once its time reaches the cap.
+the budget; an episode that gives its checkpoints (``CHECKPOINTS``) is then counted up to its
+last checkpoint within the budget, and the trial ends there. On several workers an episode
+starts before the ones before it have ended, so when it starts the trial knows only an upper
+bound of what the budget will leave it; the bound shrinks as those episodes end (and drops
+to zero when the trial learns the episode cannot count). An episode that plays in such a
+trial reads ``episode_cap_s()`` at each of its decisions (a kick, a walk) and stops once its
+time reaches the cap.
 
-Stopping there changes no episode that counts: the cap never falls below what the budget
-truly leaves (plus a cycle), and an episode cut at its cap ends past the budget, so it would
-not have counted anyway. Outside such a trial (one worker, a count of episodes, a test)
-there is no cap: ``math.inf``.
+Stopping there changes nothing a trial counts: the cap never falls below what the budget
+truly leaves (plus a cycle), and an episode cut at its cap ends past the budget, so it counts
+only up to a checkpoint within the budget, which a cap can only stop after. That holds only
+if a cap's one effect is where an episode stops: every episode that reads it must use it so
+(a limit on how long it still plays), never to choose what it does before then. Outside
+such a trial (one worker, a count of episodes, a test) there is no cap: ``math.inf``.
 """
 
 from __future__ import annotations
@@ -19,7 +24,15 @@ import math
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 
-__all__ = ["episode_cap_s", "episode_cap"]
+__all__ = ["episode_cap_s", "episode_cap", "CHECKPOINTS", "Checkpoint"]
+
+#: The key of an episode's summary that holds its checkpoints (``Checkpoint``s, in time
+#: order): where it could have ended, and its rows and summary had it ended there. A trial
+#: takes the key out of the summary before it keeps it.
+CHECKPOINTS = "checkpoints"
+
+#: (time [s] of the episode at that point, its rows, its summary) had it ended there.
+Checkpoint = tuple[float, list[dict], dict]
 
 _reader: Callable[[], float] | None = None
 

@@ -40,7 +40,7 @@ from mimic.tasks.base import (
     ci_columns,
     first_value,
 )
-from mimic.tasks.budget import episode_cap_s
+from mimic.tasks.budget import CHECKPOINTS, Checkpoint, episode_cap_s
 from mimic.world.base import World
 from mimic.world.registry import MUJOCO, get_world, open_world, world_kind
 
@@ -289,7 +289,8 @@ class KickEpisode:
     goals_while_walking: int
     falls: int
     getups: int
-    # Why it ended: goal, ball out, time limit, could not get up, could not stand, stuck: ...
+    # Why it ended: goal, ball out, time limit, could not get up, could not stand, stuck: ...,
+    # or budget (the trial's budget ended in it: counted up to its last kick within it).
     end: str
     stuck: bool
     world: str
@@ -362,7 +363,30 @@ def _play_kick_episode(
     kick_scene(offset, config, goal_x).setup(world, rng, observers=episode.watchers)
     disturb.start_delay(episode)
     disturb.pusher.arm(world)
-    rows: list[dict] = []
+    rows: list[KickRow] = []
+    checkpoints: list[Checkpoint] = []
+
+    def ended(end: str) -> tuple[list[dict], dict]:
+        """The episode's kick rows and summary row had it ended now, for ``end``."""
+        draw = disturb.columns()
+        summary = KickEpisode(
+            seed=seed,
+            duration_s=world.time_s,
+            kicks=len(rows),
+            goals=int(any(r.goal for r in rows)),
+            goals_while_walking=int(end == "goal while walking"),
+            falls=falls.falls,
+            getups=falls.getups,
+            end=end,
+            stuck=end.startswith("stuck"),
+            world=world_kind(config.world),
+            reach=reach,
+            disturbances=draw,
+        )
+        # The episode's draw beside every kick.
+        kicks = [as_row(r) | {k: draw[k] for k in _DRAW_PER_KICK} for r in rows]
+        return kicks, as_row(summary)
+
     end = "time limit"
     while left_s() > 0:
         start_xy = world.ball_pos_m()[:2]
@@ -410,6 +434,9 @@ def _play_kick_episode(
                 pushes_during_kick=pushed,
             )
         )
+        # A trial whose budget ends in this episode counts it up to its last kick within
+        # the budget (``trials.parallel``): what it would be had it ended now.
+        checkpoints.append((world.time_s, *ended("budget")))
         if rows[-1].goal:
             end = "goal"
             break
@@ -436,24 +463,8 @@ def _play_kick_episode(
         if walk != "arrived":
             end = "could not get up" if walk == "fell" else f"stuck: {walk}"
             break
-    draw = disturb.columns()
-    summary = KickEpisode(
-        seed=seed,
-        duration_s=world.time_s,
-        kicks=len(rows),
-        goals=int(any(r.goal for r in rows)),
-        goals_while_walking=int(end == "goal while walking"),
-        falls=falls.falls,
-        getups=falls.getups,
-        end=end,
-        stuck=end.startswith("stuck"),
-        world=world_kind(config.world),
-        reach=reach,
-        disturbances=draw,
-    )
-    # The episode's draw beside every kick.
-    kicks = [as_row(r) | {k: draw[k] for k in _DRAW_PER_KICK} for r in rows]
-    episode_row = as_row(summary)
+    kicks, episode_row = ended(end)
+    episode_row[CHECKPOINTS] = checkpoints
     if trace is not None:
         episode_row["trace"] = disturb.traced(trace.trace())
     return kicks, episode_row

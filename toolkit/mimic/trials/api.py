@@ -147,8 +147,9 @@ def run_trial(
     world: str | None = None,
 ) -> TrialResult:
     """The trial of ``task`` (a ``TrialTask`` or its name) for each variant, under the same
-    seeds: for ``minutes`` simulated minutes (whole episodes that end within the budget) or
-    ``runs`` episodes each, one of the two.
+    seeds: for ``minutes`` simulated minutes (the episodes that end within the budget, and
+    of the one it ends in, the kicks that do: ``trials.parallel``) or ``runs`` episodes
+    each, one of the two.
 
     ``config``: the task's settings (None: its defaults); ``world`` (``mujoco``, ``league``,
     ``league-server`` or ``league-like``; None: ``config.world``): where the episodes play;

@@ -1,9 +1,12 @@
 """Runs episodes on an executor until a simulated-time budget is spent, reproducibly.
 
-Episode i always gets seed ``derive_seed(seed, i)``. Episodes are counted in index order, and
-an episode counts only if it ends within the budget (the first one always counts), so a
-trial never runs past its budget and the same seed gives the same table whatever the
-executor (one process, a pool of any size, Ray).
+Episode i always gets seed ``derive_seed(seed, i)``. Episodes are counted in index order. One
+that ends within the budget counts whole; the first that would end past it ends the trial,
+and counts up to its last checkpoint within the budget if it gives checkpoints
+(``tasks.budget.CHECKPOINTS``: a kick episode's kicks that ended within it), else not at all
+(but the first episode, which counts whole if nothing of it is within). So a trial counts
+nothing past its budget but a first episode longer than it, and the same seed gives the same
+table whatever the executor (one process, a pool of any size, Ray).
 """
 
 from __future__ import annotations
@@ -21,7 +24,7 @@ from pathlib import Path
 import numpy as np
 
 from mimic.tasks.base import EpisodeBatch
-from mimic.tasks.budget import episode_cap
+from mimic.tasks.budget import CHECKPOINTS, episode_cap
 from mimic.trials.executors import Executor, available_cores, make_executor
 from mimic.world.base import CYCLE_S
 
@@ -77,22 +80,32 @@ def run_job(job: tuple) -> tuple[list[dict], dict]:
     func, spec, seed, config, episode, *cap = job
     with episode_cap(cap[0] if cap else None):
         rows, summary = func(spec, seed, config)
-    for r in rows:
+    for r in [*rows, *(r for _, cut, _ in summary.get(CHECKPOINTS, ()) for r in cut)]:
         r["episode"] = episode
     summary["episode"] = episode
+    for _, _, cut_summary in summary.get(CHECKPOINTS, ()):
+        cut_summary["episode"] = episode
     return rows, summary
+
+
+def _cut(checkpoint: tuple, summary: dict) -> tuple[list[dict], dict]:
+    """An episode's rows and summary as of ``checkpoint`` (``tasks.budget.Checkpoint``); the
+    pose trace, if it kept one, is the whole episode's (what a replay shows of it)."""
+    _, rows, cut = checkpoint
+    return rows, cut | ({"trace": summary["trace"]} if "trace" in summary else {})
 
 
 def _capped(config, budget_s: float | None, counted_s: float):
     """``config`` with its ``episode_limit_s`` cut to just past what the budget has left once
-    ``counted_s`` is spent: an episode that runs that long would end past the budget and not
-    count, so it stops there instead of playing on (each limit bounds its episode's time
-    only; an episode that ends within the budget plays exactly as without the cap). Configs
-    without the field, and trials counted in episodes, are returned as they are."""
+    ``counted_s`` is spent: nothing an episode does past that could count, so it stops there
+    instead of playing on (each limit bounds its episode's time only; an episode plays
+    exactly as without the cap until it). Configs without the field, and trials counted in
+    episodes, are returned as they are."""
     limit_s = getattr(config, "episode_limit_s", None)
     if budget_s is None or limit_s is None:
         return config
-    # One cycle past what is left: a capped episode's duration is then over the budget.
+    # One cycle past what is left: a capped episode's duration is then over the budget, and
+    # a checkpoint at exactly what is left was reached before it stopped.
     cap_s = max(0.0, budget_s - counted_s) + CYCLE_S
     return dataclasses.replace(config, episode_limit_s=cap_s) if cap_s < limit_s else config
 
@@ -114,7 +127,8 @@ def run_episodes(
     task: str | None = None,
 ) -> EpisodeBatch:
     """Run ``func(spec, seed, config) -> (rows, summary)`` episodes until the next one would
-    end past ``budget_s`` of simulated time (summary['duration_s']), or exactly ``episodes``.
+    end past ``budget_s`` of simulated time (summary['duration_s']; that one counted up to its
+    last checkpoint within the budget, as the module says), or exactly ``episodes``.
 
     ``executor`` runs them (kept open for the caller's next batch); without one, a pool of
     ``workers`` processes (default: every core) is made and closed here. Episode indices start
@@ -129,9 +143,9 @@ def run_episodes(
     throw away. With several workers one more episode waits queued, so a worker that finishes
     first starts the next at once. An episode after the first is given, as its config's
     ``episode_limit_s``, at most what the budget had left when it started (plus a cycle):
-    past that it could not count, so it stops instead of playing on. With several workers
-    that bound shrinks while the episode plays (``tasks.budget``), as the episodes before it
-    end, to zero once it cannot count. Which episodes count does not depend on any of this.
+    nothing of it past that could count, so it stops instead of playing on. With several
+    workers that bound shrinks while the episode plays (``tasks.budget``), as the episodes
+    before it end, to zero once it cannot count. What counts does not depend on any of this.
     """
     if (budget_s is None) == (episodes is None):
         raise ValueError("give exactly one of budget_s and episodes")
@@ -233,12 +247,19 @@ def run_episodes(
                 ended[index] = executor.result(handle, waiting=_refresh)
             pending.popleft()
             rows, summary = ended.pop(index)
-            if (
-                budget_s is not None
-                and batch.episodes
-                and batch.simulated_s + summary["duration_s"] > budget_s
-            ):
-                break  # would end past the budget: it and every later episode do not count
+            checkpoints = summary.pop(CHECKPOINTS, None)
+            if budget_s is not None and batch.simulated_s + summary["duration_s"] > budget_s:
+                # Would end past the budget: it ends the trial, counted up to its last
+                # checkpoint within the budget; without one, not at all (the first episode
+                # whole: a trial counts something).
+                within = [c for c in checkpoints or () if batch.simulated_s + c[0] <= budget_s]
+                if within:
+                    batch.add(*_cut(within[-1], summary))
+                    if progress:
+                        progress(batch)
+                    break
+                if batch.episodes:
+                    break
             batch.add(rows, summary)
             if progress:
                 progress(batch)
