@@ -280,9 +280,11 @@ def _referee_story(monkeypatch, referee) -> list:
 
 def test_the_referees_shortcuts_referee_as_rcsssmj_does(monkeypatch):
     # league_simulation._Referee skips the timeouts where a play mode has none, the illegal
-    # defence where no team can crowd its area and the placement rules outside set plays:
-    # the same play modes, ball and robot, cycle by cycle, as rcsssmj's referee through a
-    # throw-in, a goal and a kick-off, each left to time out (15 s; after a goal 3 s).
+    # defence where no team can crowd its area, the placement rules outside set plays, the
+    # location triggers while the ball is on the field and in no goal, and the contact
+    # triggers outside set plays: the same play modes, ball and robot, cycle by cycle, as
+    # rcsssmj's referee through a throw-in, a goal and a kick-off, each left to time out
+    # (15 s; after a goal 3 s).
     ours = _referee_story(monkeypatch, league_simulation._Referee)
     theirs = _referee_story(monkeypatch, SoccerReferee)
     modes = {mode for mode, *_ in ours}

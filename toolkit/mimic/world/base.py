@@ -106,6 +106,17 @@ class BodyPoses:
     quat_wxyz: np.ndarray
 
 
+def _up_z(quat_wxyz: list[float]) -> float:
+    """z component of the up axis of orientation ``quat_wxyz`` (floats): 1 upright, 0 lying."""
+    _, x, y, _ = quat_wxyz
+    return 1 - 2 * (x * x + y * y)
+
+
+def _tilt_rad(quat_wxyz: list[float]) -> float:
+    """The angle between the up axis of ``quat_wxyz`` and the vertical [rad]."""
+    return math.acos(acos_domain(_up_z(quat_wxyz)))
+
+
 class World(ABC):
     """One robot, a ball and a field, advanced in agent cycles."""
 
@@ -218,25 +229,28 @@ class World(ABC):
 
     def torso_up_z(self) -> float:
         """z component of the torso's up axis: 1 upright, 0 lying."""
-        w, x, y, _ = self.torso_quat_wxyz().tolist()  # floats: checked every cycle
-        return 1 - 2 * (x * x + y * y)
+        return _up_z(self._torso_height_and_quat()[1])
+
+    def _torso_height_and_quat(self) -> tuple[float, list[float]]:
+        """The torso's height [m] and its (4,) orientation (w, x, y, z), as Python floats: the
+        fall checks read them every cycle, twice (a world may read them more cheaply)."""
+        return float(self.torso_pos_m()[2]), self.torso_quat_wxyz().tolist()
 
     def torso_forward_z(self) -> float:
         """z component of the torso's forward axis: negative when it faces the ground."""
         return forward_axis_z(self.torso_quat_wxyz())
 
-    def _tilt_rad(self) -> float:
-        return math.acos(acos_domain(self.torso_up_z()))
-
     def fallen(self) -> bool:
         """Torso too low or tilted too far (the robot's ``FallThresholds``)."""
         f = self.robot.falls
-        return self.torso_pos_m()[2] < f.fallen_below_m or self._tilt_rad() > f.fallen_tilt_rad
+        z, quat = self._torso_height_and_quat()
+        return z < f.fallen_below_m or _tilt_rad(quat) > f.fallen_tilt_rad
 
     def upright(self) -> bool:
         """Standing: torso high and nearly vertical (the success test of a get-up)."""
         f = self.robot.falls
-        return self.torso_pos_m()[2] > f.upright_above_m and self._tilt_rad() < f.upright_tilt_rad
+        z, quat = self._torso_height_and_quat()
+        return z > f.upright_above_m and _tilt_rad(quat) < f.upright_tilt_rad
 
     def lying_side(self) -> str:
         """``front`` if the torso faces the ground, else ``back``."""

@@ -73,3 +73,7 @@ class PerceivedRobot:
 
     def torso_quat_wxyz(self) -> np.ndarray:
         return self._perception.torso_quat_wxyz.copy()
+
+    def _torso_height_and_quat(self) -> tuple[float, list[float]]:
+        seen = self._perception
+        return float(seen.torso_pos_m[2]), seen.torso_quat_wxyz.tolist()

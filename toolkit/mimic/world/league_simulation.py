@@ -85,9 +85,17 @@ _TIMED_PLAY_MODES = frozenset(
 #: ``SoccerReferee._penalize_misplaced_players`` (set plays): in any other it checks nothing.
 _PLACED_PLAY_MODES = _TIMED_PLAY_MODES - {PlayMode.GOAL_LEFT, PlayMode.GOAL_RIGHT}
 
+#: The play modes in which rcsssmj 0.2.1's ``SoccerReferee._check_contact_triggers`` acts on a
+#: touch of the ball (the set plays but goal kicks): in any other it does nothing.
+_TOUCHED_PLAY_MODES = _PLACED_PLAY_MODES - {PlayMode.GOAL_KICK_LEFT, PlayMode.GOAL_KICK_RIGHT}
+
+#: The play modes in which rcsssmj 0.2.1's ``SoccerReferee._check_location_triggers`` acts on
+#: more than a ball in a goal or off the field: the goal kicks (a ball out of the goalie area).
+_GOAL_KICKS = frozenset({PlayMode.GOAL_KICK_LEFT, PlayMode.GOAL_KICK_RIGHT})
+
 
 class _Referee(SoccerReferee):
-    """rcsssmj's referee; three per-cycle checks skipped where they cannot act:
+    """rcsssmj's referee; five per-cycle checks skipped where they cannot act:
 
     * the timeouts in a play mode that has none (``BeforeKickOff``, in which mimic's worlds
       play, ``PlayOn``, offside, game over): every test in ``_check_timeouts`` is false there;
@@ -95,8 +103,27 @@ class _Referee(SoccerReferee):
       area: no area can then hold too many, so nobody can be penalised. The check's entry
       times are read only for a penalty; a team that grows past the limit is checked in
       full from then on (mimic's in-process world has one player, so none does);
-    * the players' placement in a play mode without placement rules (all but set plays).
+    * the players' placement in a play mode without placement rules (all but set plays);
+    * the location triggers while the ball lies on the field and in neither goal, outside
+      goal kicks: each of their tests is then false (read once, as floats, the same values);
+    * the contact triggers outside the set plays they end (``PlayOn`` among them).
     """
+
+    def _check_contact_triggers(self) -> None:
+        if self.game.game_state.play_mode in _TOUCHED_PLAY_MODES:
+            super()._check_contact_triggers()
+
+    def _check_location_triggers(self) -> None:
+        if not self._did_act and self.game.game_state.play_mode not in _GOAL_KICKS:
+            x, y, z = self.game.ball.xpos.tolist()
+            field = self.game.field
+            if (
+                field.field_area.contains(x, y)
+                and not field.left_goal_box.contains(x, y, z)
+                and not field.right_goal_box.contains(x, y, z)
+            ):
+                return
+        super()._check_location_triggers()
 
     def _check_timeouts(self) -> None:
         if self.game.game_state.play_mode in _TIMED_PLAY_MODES:

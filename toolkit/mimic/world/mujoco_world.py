@@ -234,6 +234,10 @@ class MujocoWorld(World):
     def torso_quat_wxyz(self) -> np.ndarray:
         return self._qpos[self._root_q + 3 : self._root_q + 7].copy()
 
+    def _torso_height_and_quat(self) -> tuple[float, list[float]]:
+        z, *quat = self._qpos[self._root_q + 2 : self._root_q + 7].tolist()
+        return z, quat
+
     def ball_pos_m(self) -> np.ndarray:
         return self._qpos[self._ball_q : self._ball_q + 3].copy()
 
