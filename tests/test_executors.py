@@ -109,10 +109,11 @@ def checkpointed_episode(spec, seed, config):
     return rows, summary
 
 
-def test_the_episode_that_reaches_the_budget_counts_up_to_its_last_checkpoint_within_it():
-    """Whole episodes while they fit; the one that would end past the budget counts its rows
-    up to its last checkpoint within it, and ends the trial: the same in a pool (where it
-    may play on past its cap before the ones before it end) as in one process."""
+def test_the_episode_that_reaches_the_budget_counts_to_its_end_as_of_its_last_checkpoint():
+    """Whole episodes while they fit; the one that would end past the budget counts to the
+    budget's end, with its rows and summary as of its last checkpoint within it, and ends
+    the trial: the same in a pool (where it may play on past its cap before the ones before
+    it end) as in one process."""
 
     def trial(executor, budget_s=190.0):
         return run_episodes(
@@ -126,11 +127,10 @@ def test_the_episode_that_reaches_the_budget_counts_up_to_its_last_checkpoint_wi
     # The cut episode: its own seed, its first rows, its last checkpoint within the budget.
     left_s = 190.0 - sum(e["duration_s"] for e in whole)
     natural_s = 10.0 + cut["seed"] % 50
-    assert whole and 0 < cut["duration_s"] <= left_s < natural_s
-    assert left_s - cut["duration_s"] < 7.0
+    assert whole and 7.0 <= left_s < natural_s
+    assert cut["duration_s"] == pytest.approx(left_s) and inline.simulated_s == pytest.approx(190.0)
     counted = [r for r in inline.rows if r["seed"] == cut["seed"]]
-    assert [r["at_s"] for r in counted] == list(np.arange(7.0, cut["duration_s"] + 1e-9, 7.0))
-    assert inline.simulated_s <= 190.0
+    assert [r["at_s"] for r in counted] == list(np.arange(7.0, left_s + 1e-9, 7.0))
     with PoolExecutor(2) as pool:
         pooled = trial(pool)
     assert pooled.rows == inline.rows and pooled.episodes == inline.episodes

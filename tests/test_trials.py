@@ -220,11 +220,11 @@ def test_a_kick_episode_stops_at_its_live_cap_as_at_its_limit():
     assert capped[1]["duration_s"] == pytest.approx(6.0)
 
 
-def test_a_kick_trial_counts_the_kicks_that_ended_within_its_budget():
-    """The episode the budget ends in counts up to its last kick that ended within the
-    budget: those are the first kicks of the same episode played on its own, and the trial
-    is the same on two workers, where that episode starts before the one before it ends and
-    plays under a live cap."""
+def test_a_kick_trial_counts_its_budget_to_its_end():
+    """The episode the budget ends in counts to the budget's end: its kicks that ended by
+    then (the first kicks of the same episode played on its own), its falls and pushes by
+    then; and the trial is the same on two workers, where that episode starts before the one
+    before it ends and plays under a live cap."""
     from mimic.tasks.kick import KickTrialConfig, run_kick_episode
     from mimic.trials.executors import InlineExecutor, PoolExecutor
     from mimic.trials.parallel import run_episodes
@@ -240,7 +240,8 @@ def test_a_kick_trial_counts_the_kicks_that_ended_within_its_budget():
     *whole, cut = one.episodes
     assert [e["end"] for e in whole] == ["goal", "goal"] and cut["end"] == "budget"
     left_s = budget_s - sum(e["duration_s"] for e in whole)
-    assert 0 < cut["duration_s"] <= left_s and one.simulated_s <= budget_s
+    assert cut["duration_s"] == pytest.approx(left_s)
+    assert one.simulated_s == pytest.approx(budget_s)
     alone_rows, alone = run_kick_episode(kick, derive_seed(2, cut["episode"]), KickTrialConfig())
     assert alone["duration_s"] > left_s  # on its own it plays past what the budget left
     counted = [r for r in one.rows if r["episode"] == cut["episode"]]
@@ -248,9 +249,15 @@ def test_a_kick_trial_counts_the_kicks_that_ended_within_its_budget():
     assert [{k: v for k, v in r.items() if k != "episode"} for r in counted] == alone_rows[
         : len(counted)
     ]
-    # Its next kick had not ended when the budget did.
-    next_kick_ended_s = alone["checkpoints"][len(counted)][0]
-    assert next_kick_ended_s > left_s
+    # Each kick's end: the first checkpoint that has it. The next had not ended by the budget's.
+    kick_ends_s = [
+        next(t for t, r, _ in alone["checkpoints"] if len(r) > k) for k in range(len(alone_rows))
+    ]
+    assert kick_ends_s[len(counted) - 1] <= left_s < kick_ends_s[len(counted)]
+    # Its summary is the episode's own as of its last checkpoint before the budget's end.
+    *_, (_, _, then) = [c for c in alone["checkpoints"] if c[0] <= left_s]
+    same = {k: v for k, v in cut.items() if k not in ("duration_s", "episode")}
+    assert same == {k: v for k, v in then.items() if k != "duration_s"}
     with PoolExecutor(2) as pool:
         two = trial(pool)
     assert two.rows == one.rows and two.episodes == one.episodes

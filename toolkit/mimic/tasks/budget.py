@@ -2,8 +2,8 @@
 and the points where an episode could have ended, so that a trial can count it up to there.
 
 A trial with a simulated-time budget counts episodes in index order until one would end past
-the budget; an episode that gives its checkpoints (``CHECKPOINTS``) is then counted up to its
-last checkpoint within the budget, and the trial ends there. On several workers an episode
+the budget; an episode that gives its checkpoints (``CHECKPOINTS``) is then counted to the
+budget's end, as of its last checkpoint within the budget, and the trial ends there. On several workers an episode
 starts before the ones before it have ended, so when it starts the trial knows only an upper
 bound of what the budget will leave it; the bound shrinks as those episodes end (and drops
 to zero when the trial learns the episode cannot count). An episode that plays in such a
@@ -27,11 +27,12 @@ from contextlib import contextmanager
 __all__ = ["episode_cap_s", "episode_cap", "CHECKPOINTS", "Checkpoint"]
 
 #: The key of an episode's summary that holds its checkpoints (``Checkpoint``s, in time
-#: order): where it could have ended, and its rows and summary had it ended there. A trial
-#: takes the key out of the summary before it keeps it.
+#: order): its rows and summary as of each, which hold until the next (nothing a trial
+#: counts changes in between but the duration). A trial takes the key out of the summary
+#: before it keeps it.
 CHECKPOINTS = "checkpoints"
 
-#: (time [s] of the episode at that point, its rows, its summary) had it ended there.
+#: (time [s] of the episode at that point, its rows, its summary) as of then.
 Checkpoint = tuple[float, list[dict], dict]
 
 _reader: Callable[[], float] | None = None

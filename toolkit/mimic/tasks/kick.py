@@ -25,7 +25,7 @@ from mimic.agents.hold import HoldPose
 from mimic.agents.registry import AgentSpec
 from mimic.agents.walk import make_walk_agent
 from mimic.agents.walk.goto import GoToPose, pose_behind_ball
-from mimic.episode import Episode, PoseNoise, PoseTrace, Scene
+from mimic.episode import Episode, Observer, PoseNoise, PoseTrace, Scene
 from mimic.episode.disturbance import EpisodeDisturbances
 from mimic.episode.scene import BALL_ASIDE_M, SETTLE_S
 from mimic.errors import MimicError
@@ -280,7 +280,7 @@ class KickEpisode:
     """One kick-trial episode: kicks until a goal, the ball out, or the time limit."""
 
     seed: int
-    # Simulated time the episode took [s].
+    # Simulated time the episode took [s] (cut by its trial's budget: to the budget's end).
     duration_s: float
     kicks: int
     # 1 if the episode ended in a goal from a kick.
@@ -290,7 +290,7 @@ class KickEpisode:
     falls: int
     getups: int
     # Why it ended: goal, ball out, time limit, could not get up, could not stand, stuck: ...,
-    # or budget (the trial's budget ended in it: counted up to its last kick within it).
+    # or budget (its trial's budget ended in it: what it counted by then).
     end: str
     stuck: bool
     world: str
@@ -298,6 +298,27 @@ class KickEpisode:
     reach: str
     # The episode's disturbance draw (``EpisodeDisturbances.columns``).
     disturbances: dict
+
+
+class _Checkpoints(Observer):
+    """Where a trial whose budget ends in this kick episode may cut it (``tasks.budget``):
+    the episode's rows and summary as of now, taken at its start, after each kick, and
+    after each cycle in which something its summary counts changed (a fall, a get-up, a
+    push, a start delay). Between two checkpoints nothing the trial counts changes, so it
+    can count the episode to any time (the last checkpoint before, with that duration)."""
+
+    def __init__(self, counts: Callable[[], tuple], ended: Callable[[], tuple]) -> None:
+        self.points: list[Checkpoint] = []
+        self._counts, self._ended = counts, ended
+        self._seen: tuple | None = None
+
+    def add(self, world: World) -> None:
+        self._seen = self._counts()
+        self.points.append((world.time_s, *self._ended()))
+
+    def after_step(self, world: World) -> None:
+        if self._counts() != self._seen:
+            self.add(world)
 
 
 class _BallWatch:
@@ -350,21 +371,18 @@ def _play_kick_episode(
     referee = get_world(config.world).league_referee
     goal_x = world.field.opponent_goal_x_m
     trace = PoseTrace() if config.trace else None
-    episode = Episode(world, observers=(trace, disturb.pusher) if trace else (disturb.pusher,))
-    falls = episode.falls
-
-    def limit_s() -> float:  # the config's limit, or less as the trial's budget runs out
-        return min(config.episode_limit_s, episode_cap_s())
-
-    def left_s() -> float:
-        return limit_s() - world.time_s
-
-    offset = kick.ball_offset_m()
-    kick_scene(offset, config, goal_x).setup(world, rng, observers=episode.watchers)
-    disturb.start_delay(episode)
-    disturb.pusher.arm(world)
     rows: list[KickRow] = []
-    checkpoints: list[Checkpoint] = []
+    marks = _Checkpoints(
+        lambda: (
+            falls.falls,
+            falls.getups,
+            len(disturb.pusher.pushed),
+            len(disturb.start_delays_s),
+        ),
+        lambda: ended("budget"),
+    )
+    episode = Episode(world, observers=(*((trace,) if trace else ()), disturb.pusher, marks))
+    falls = episode.falls
 
     def ended(end: str) -> tuple[list[dict], dict]:
         """The episode's kick rows and summary row had it ended now, for ``end``."""
@@ -387,6 +405,17 @@ def _play_kick_episode(
         kicks = [as_row(r) | {k: draw[k] for k in _DRAW_PER_KICK} for r in rows]
         return kicks, as_row(summary)
 
+    def limit_s() -> float:  # the config's limit, or less as the trial's budget runs out
+        return min(config.episode_limit_s, episode_cap_s())
+
+    def left_s() -> float:
+        return limit_s() - world.time_s
+
+    offset = kick.ball_offset_m()
+    kick_scene(offset, config, goal_x).setup(world, rng, observers=episode.watchers)
+    disturb.start_delay(episode)
+    disturb.pusher.arm(world)
+    marks.add(world)  # the episode set up: a budget may end before its first kick
     end = "time limit"
     while left_s() > 0:
         start_xy = world.ball_pos_m()[:2]
@@ -434,9 +463,7 @@ def _play_kick_episode(
                 pushes_during_kick=pushed,
             )
         )
-        # A trial whose budget ends in this episode counts it up to its last kick within
-        # the budget (``trials.parallel``): what it would be had it ended now.
-        checkpoints.append((world.time_s, *ended("budget")))
+        marks.add(world)
         if rows[-1].goal:
             end = "goal"
             break
@@ -464,7 +491,7 @@ def _play_kick_episode(
             end = "could not get up" if walk == "fell" else f"stuck: {walk}"
             break
     kicks, episode_row = ended(end)
-    episode_row[CHECKPOINTS] = checkpoints
+    episode_row[CHECKPOINTS] = marks.points
     if trace is not None:
         episode_row["trace"] = disturb.traced(trace.trace())
     return kicks, episode_row

@@ -1,12 +1,13 @@
 """Runs episodes on an executor until a simulated-time budget is spent, reproducibly.
 
 Episode i always gets seed ``derive_seed(seed, i)``. Episodes are counted in index order. One
-that ends within the budget counts whole; the first that would end past it ends the trial,
-and counts up to its last checkpoint within the budget if it gives checkpoints
-(``tasks.budget.CHECKPOINTS``: a kick episode's kicks that ended within it), else not at all
-(but the first episode, which counts whole if nothing of it is within). So a trial counts
-nothing past its budget but a first episode longer than it, and the same seed gives the same
-table whatever the executor (one process, a pool of any size, Ray).
+that ends within the budget counts whole; the first that would end past it ends the trial. It
+counts to the budget's end, as of its last checkpoint within the budget, if it gives
+checkpoints (``tasks.budget.CHECKPOINTS``: a kick episode's kicks that ended by then, its
+falls and pushes by then), else not at all (but the first episode, which counts whole if
+nothing of it is within). So a trial counts exactly its budget (less what an episode without
+checkpoints leaves), and the same seed gives the same table whatever the executor (one
+process, a pool of any size, Ray).
 """
 
 from __future__ import annotations
@@ -88,11 +89,13 @@ def run_job(job: tuple) -> tuple[list[dict], dict]:
     return rows, summary
 
 
-def _cut(checkpoint: tuple, summary: dict) -> tuple[list[dict], dict]:
-    """An episode's rows and summary as of ``checkpoint`` (``tasks.budget.Checkpoint``); the
-    pose trace, if it kept one, is the whole episode's (what a replay shows of it)."""
+def _cut(checkpoint: tuple, summary: dict, duration_s: float) -> tuple[list[dict], dict]:
+    """An episode's rows and summary as of ``checkpoint`` (``tasks.budget.Checkpoint``),
+    counted for ``duration_s`` [s]; the pose trace, if it kept one, is the whole episode's
+    (what a replay shows of it)."""
     _, rows, cut = checkpoint
-    return rows, cut | ({"trace": summary["trace"]} if "trace" in summary else {})
+    trace = {"trace": summary["trace"]} if "trace" in summary else {}
+    return rows, cut | {"duration_s": duration_s} | trace
 
 
 def _capped(config, budget_s: float | None, counted_s: float):
@@ -127,8 +130,8 @@ def run_episodes(
     task: str | None = None,
 ) -> EpisodeBatch:
     """Run ``func(spec, seed, config) -> (rows, summary)`` episodes until the next one would
-    end past ``budget_s`` of simulated time (summary['duration_s']; that one counted up to its
-    last checkpoint within the budget, as the module says), or exactly ``episodes``.
+    end past ``budget_s`` of simulated time (summary['duration_s']; that one counted to the
+    budget's end if it gives checkpoints, as the module says), or exactly ``episodes``.
 
     ``executor`` runs them (kept open for the caller's next batch); without one, a pool of
     ``workers`` processes (default: every core) is made and closed here. Episode indices start
@@ -249,12 +252,12 @@ def run_episodes(
             rows, summary = ended.pop(index)
             checkpoints = summary.pop(CHECKPOINTS, None)
             if budget_s is not None and batch.simulated_s + summary["duration_s"] > budget_s:
-                # Would end past the budget: it ends the trial, counted up to its last
-                # checkpoint within the budget; without one, not at all (the first episode
+                # Would end past the budget: it ends the trial, counted to the budget's end as
+                # of its last checkpoint within it; without one, not at all (the first episode
                 # whole: a trial counts something).
                 within = [c for c in checkpoints or () if batch.simulated_s + c[0] <= budget_s]
                 if within:
-                    batch.add(*_cut(within[-1], summary))
+                    batch.add(*_cut(within[-1], summary, budget_s - batch.simulated_s))
                     if progress:
                         progress(batch)
                     break
