@@ -135,8 +135,8 @@ class TrialProgress:
         return self
 
     def _finish(self, label: str) -> None:
-        """Stop the variant's clock and bar where it ended (its budget may end short of the
-        bar's total: whole episodes, or kicks, that ended within it only)."""
+        """Stop the variant's clock and bar where it ended (a walk trial's budget may end
+        short of the bar's total: whole runs only)."""
         task = self._tasks.get(label)
         if task is not None:
             done = self._bar.tasks[task].completed
@@ -231,9 +231,8 @@ def _world_text(result) -> str:
 
 
 def _minutes_text(result, minutes: float | None) -> str:
-    """The simulated minutes each variant counted (up to its last episode or kick that ended
-    within the budget, so not the budget):
-    ``1.26-1.9 simulated min per variant (2 asked)``."""
+    """The simulated minutes each variant counted (a kick trial its budget; a walk trial its
+    runs that ended within it, so less): ``1.26-1.9 simulated min per variant (2 asked)``."""
     ran = [v for v in result.summary.get_column("simulated_min").to_list() if v is not None]
     if not ran:
         return f"{minutes:g} simulated min asked per variant"

@@ -148,8 +148,8 @@ def run_trial(
 ) -> TrialResult:
     """The trial of ``task`` (a ``TrialTask`` or its name) for each variant, under the same
     seeds: for ``minutes`` simulated minutes (the episodes that end within the budget, and
-    of the one it ends in, the kicks that do: ``trials.parallel``) or ``runs`` episodes
-    each, one of the two.
+    the one it ends in up to the budget's end if it can be cut: ``trials.parallel``) or
+    ``runs`` episodes each, one of the two.
 
     ``config``: the task's settings (None: its defaults); ``world`` (``mujoco``, ``league``,
     ``league-server`` or ``league-like``; None: ``config.world``): where the episodes play;
