@@ -155,7 +155,9 @@ def test_the_torso_term_moves_the_fitted_hips_toward_the_recordings_lean(tmp_pat
     hips = [copy.joint_names.index(n) for n in ("Left_Hip_Pitch", "Right_Hip_Pitch")]
     trial = GetupTrialConfig(world="league-like")
     plain, torso = (
-        follow_recording(copy, lean, legs, trial, FollowConfig(rounds=2, runs=1, torso_gain=g))
+        follow_recording(
+            copy, lean, legs, trial, FollowConfig(rounds=2, runs=1, torso_gain=g, short_front_s=0)
+        )
         for g in (0.0, 1.0)
     )
     assert [r.torso_gain for r in plain.rounds] == [0.0, 0.0] and plain.torso_gain == 0.0
@@ -173,6 +175,49 @@ def test_the_torso_term_moves_the_fitted_hips_toward_the_recordings_lean(tmp_pat
     )
     with pytest.raises(MimicError, match="torso"):
         FollowConfig(torso_gain=-1.0)
+
+
+def test_the_short_front_fits_are_kept_only_where_they_follow_further(tmp_path):
+    """The follow's two short-front fits (each run mending the front before its own followed
+    time) run after the 2 s fits, from the same start; one is kept only if it follows
+    further by more than the tolerance, else the fitted copy is the one without them, the
+    same to the bit (copies whose 2 s fits already stand keep them)."""
+    from mimic.improve.follow import FollowConfig, follow_recording
+    from mimic.tasks.getup import GetupTrialConfig
+
+    rec = tmp_path / "seen.mcap"
+    _black_box_getup(rec)
+    ds = training_dataset(rec, L.JOINT_STATES, "reached", start_s=0.0, end_s=3.9)
+    copy = train_model(ds, TrainConfig(epochs=40))
+    legs = [i for i, n in enumerate(copy.joint_names) if any(k in n for k in ("Hip", "Knee"))]
+    trial = GetupTrialConfig(world="league-like")
+    base, short = (
+        follow_recording(copy, rec, legs, trial, FollowConfig(rounds=2, runs=2, short_front_s=f))
+        for f in (0.0, 0.5)
+    )
+    fits = [(r.torso_gain, r.front_s, r.per_run) for r in short.rounds]
+    assert (
+        fits
+        == [(0.0, 2.0, False)] * 2
+        + [(0.5, 2.0, False)] * 2
+        + [(0.0, 0.5, True)] * 2
+        + [(0.5, 0.5, True)] * 2
+    )
+    assert short.rounds[:4] == base.rounds  # the 2 s fits as without the short ones
+    ran = _best_followed_of(short, True)
+    if short.per_run:
+        assert ran > base.best_followed_s + FollowConfig().tolerance_s
+        assert "each run's own 0.5 s front" in short.describe()
+    else:
+        assert ran <= base.best_followed_s + FollowConfig().tolerance_s
+        assert np.array_equal(short.model.track_offsets_rad, base.model.track_offsets_rad)
+        assert short.front_s == 2.0 and "the further of 4 fits" in short.describe()
+    with pytest.raises(MimicError, match="short front"):
+        FollowConfig(short_front_s=-1.0)
+
+
+def _best_followed_of(result, per_run):
+    return max(r.followed for r in result.rounds if r.per_run == per_run and r.kept)
 
 
 def _leaning_back(src, out, lean_rad):

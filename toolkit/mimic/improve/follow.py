@@ -42,6 +42,19 @@ recording reached, sample by sample, and the references corrected until they agr
    forward of the recording's (R1's); but in a kneel at its balance point the hips do not
    turn the torso as assumed (R3's tips forward with 0.15 rad more or less hip pitch). The
    fit that follows further is kept; a tie (within ``tolerance_s``) goes to the torso term's.
+7. Two more fits (joints alone, then with the torso term) step a shorter front
+   (``short_front_s``, 1 s) and let each run mend the front before its *own* followed time
+   (a knot gets the mean step of the runs whose front holds it); one is kept only if it
+   follows further than every fit before it by more than ``tolerance_s``, so a copy whose
+   2 s fits already follow to their recording's end keeps them, the same to the bit. Why
+   (2026-11-28, R9 and R10, whose S1b copies never rose): their 2 s fronts reached back
+   from the push out of the kneel (7.3-7.9 s) into the sit-up before it (5.0-5.8 s), whose
+   large, brief errors then stepped the sit-up into failing (rounds undone, the gain halved
+   to nothing), and a run that fell in the sit-up while the median went on was never mended
+   there (its front lay past the median's). With the short fronts both followed to
+   12.6-12.8 s, were upright in 6 of 6 league-like development runs, and with their stands
+   searched stood in 5 and 6 of 6 (docs/getups.md); of eight recordings whose copies rose
+   already, seven kept their 2 s fits, and R3's short fit stood 6 of 6 as its old one did.
 
 The result is an ordinary windowed model (``model.windowed.WindowedModel`` with an offset
 track, knots every ``knot_s``); a stand window (``--window auto``) can go on top.
@@ -120,6 +133,9 @@ class FollowConfig:
     # [rad/rad] in a second fit beside the joints-only one (0: the joints-only fit alone).
     torso_gain: float = 0.5
     torso_clip_rad: float = 0.3
+    # The front of two more fits [s] (0: none), each run's error mending only the front
+    # before its own followed time; kept only if they follow further (module docstring, 7).
+    short_front_s: float = 1.0
 
     def __post_init__(self) -> None:
         if self.torso_gain < 0 or not self.torso_clip_rad > 0:
@@ -129,6 +145,8 @@ class FollowConfig:
             )
         if self.rounds < 1 or self.runs < 1:
             raise MimicError(f"--follow needs >= 1 round and run, got {self.rounds}, {self.runs}")
+        if self.short_front_s < 0:
+            raise MimicError(f"the short front takes >= 0 s, got {self.short_front_s}")
         if self.stand_s > 0 and not self.stand_blend_s > 0:
             raise MimicError(f"the stand's blend takes > 0 s, got {self.stand_blend_s}")
 
@@ -143,6 +161,9 @@ class FollowRound:
     kept: bool
     # The fit's torso gain (0: joints only).
     torso_gain: float = 0.0
+    # The fit's front [s] and whether each run mended its own front (the short fits).
+    front_s: float = 2.0
+    per_run: bool = False
 
     @property
     def followed(self) -> float:
@@ -157,11 +178,15 @@ class FollowResult:
     start_s: float
     rounds: list[FollowRound] = field(default_factory=list)
     torso_gain: float = 0.0
+    # The kept fit's front [s] and whether its runs mended their own fronts.
+    front_s: float = 2.0
+    per_run: bool = False
 
     @property
     def kept_rounds(self) -> list[FollowRound]:
         """The rounds of the fit kept."""
-        return [r for r in self.rounds if r.torso_gain == self.torso_gain]
+        fit = (self.torso_gain, self.front_s, self.per_run)
+        return [r for r in self.rounds if (r.torso_gain, r.front_s, r.per_run) == fit]
 
     @property
     def best_followed_s(self) -> float:
@@ -170,10 +195,11 @@ class FollowResult:
     def describe(self) -> str:
         rounds = self.kept_rounds
         first, best = rounds[0], max((r for r in rounds if r.kept), key=lambda r: r.followed)
-        fits = {r.torso_gain for r in self.rounds}
+        fits = {(r.torso_gain, r.front_s, r.per_run) for r in self.rounds}
+        front = f", each run's own {self.front_s:g} s front" if self.per_run else ""
         which = f"{len(rounds)} rounds" + (
-            f" {'with' if self.torso_gain else 'without'} the torso term, the further of "
-            f"{len(fits)} fits"
+            f" {'with' if self.torso_gain else 'without'} the torso term{front}, the further "
+            f"of {len(fits)} fits"
             if len(fits) > 1
             else ""
         )
@@ -345,8 +371,30 @@ def follow_recording(
         blend = np.clip((knots - (last - config.stand_blend_s)) / config.stand_blend_s, 0, 1)
         table = blend[:, None] * ((refs[stand].mean(axis=0) - own_end) * mask)[None, :]
 
-    def fit(torso_gain: float, rounds: list[FollowRound]) -> np.ndarray:
-        """The best table of the rounds from ``first``, each appended to ``rounds``."""
+    def step_from(times, error, use, until_inner, front_s):
+        """(knots, n): the correction's step from one error trace over ``use`` (the copy's
+        own times), zero outside the ``front_s`` before ``until_inner``; and where it is not
+        zero (knots,); None: too little followed."""
+        moving, held = use & (times < last), use & (times >= last)
+        if moving.sum() < 3:
+            return None
+        lead = warp * config.lead_s
+        step = np.stack(
+            [np.interp(knots + lead, times[moving], error[moving, j]) for j in range(n)], axis=1
+        )
+        if held.any():  # after its end the copy holds its last pose: the stand's mean error
+            step[knots >= last - config.knot_s] = error[held].mean(axis=0)
+        front = (knots + lead < until_inner - 0.1) & (
+            knots > max(start - WINDOW_RAMP_S, min(until_inner, last) - front_s)
+        )
+        step[~front] = 0.0
+        return step, front
+
+    def fit(torso_gain, front_s, per_run, rounds: list[FollowRound]) -> np.ndarray:
+        """The best table of the rounds from ``first``, each appended to ``rounds``. With
+        ``per_run`` each run's error steps the front before its own followed time (a knot
+        gets the mean over the runs whose front holds it), else the mean error steps the
+        front before the median's."""
         pitch = torso_gain * hips
         best_table, best_followed, gain, basis, table = first, -np.inf, config.gain, None, first
         for _ in range(config.rounds):
@@ -371,29 +419,28 @@ def follow_recording(
             rms = float(np.sqrt(np.mean(error[use] ** 2))) if use.any() else float("nan")
             kept = until >= best_followed - config.tolerance_s
             rounds.append(
-                FollowRound(tuple(followed), tuple(highest), rms, kept, float(torso_gain))
+                FollowRound(
+                    tuple(followed), tuple(highest), rms, kept, float(torso_gain), front_s, per_run
+                )
             )
             if on_round is not None:
                 on_round(rounds[-1])
             if kept:
                 best_table, best_followed = table, max(best_followed, until)
-                basis = (times, error, use, start + warp * (until - start))
+                if per_run:  # each run's own trace, up to its own followed time
+                    basis = []
+                    for (t, inner), e, f in zip(runs, errors, followed):
+                        own = (t > start - WINDOW_RAMP_S) & (t < f - 0.1)
+                        basis.append((inner, e, own, start + warp * (f - start)))
+                else:
+                    basis = [(times, error, use, start + warp * (until - start))]
             else:  # undone: a smaller step from the best round's errors
                 gain *= 0.5
-            times, error, use, until_inner = basis
-            moving, held = use & (times < last), use & (times >= last)
-            if moving.sum() < 3:
+            steps = [s for s in (step_from(*b, front_s) for b in basis) if s is not None]
+            if not steps:
                 break
-            lead = warp * config.lead_s
-            step = np.stack(
-                [np.interp(knots + lead, times[moving], error[moving, j]) for j in range(n)], axis=1
-            )
-            if held.any():  # after its end the copy holds its last pose: the stand's mean error
-                step[knots >= last - config.knot_s] = error[held].mean(axis=0)
-            front = (knots + lead < until_inner - 0.1) & (
-                knots > max(start - WINDOW_RAMP_S, min(until_inner, last) - config.front_s)
-            )
-            step[~front] = 0.0
+            count = np.sum([front for _, front in steps], axis=0)
+            step = np.sum([s for s, _ in steps], axis=0) / np.maximum(count, 1)[:, None]
             kernel = np.array([0.25, 0.5, 0.25])
             step = np.stack([np.convolve(col, kernel, "same") for col in step.T], axis=1)
             table = best_table + gain * step
@@ -416,13 +463,21 @@ def follow_recording(
 
     result = FollowResult(candidate(table), start)
     gains = (0.0, config.torso_gain) if config.torso_gain > 0 and hips.any() else (0.0,)
+    fits = [(g, config.front_s, False) for g in gains]
+    if config.short_front_s > 0:  # kept only if they follow further than the fits above
+        fits += [(g, config.short_front_s, True) for g in gains]
     best_table, best_followed = table, -np.inf
-    for torso_gain in gains:
+    for torso_gain, front_s, per_run in fits:
         rounds: list[FollowRound] = []
-        fitted = fit(torso_gain, rounds)
+        fitted = fit(torso_gain, front_s, per_run, rounds)
         result.rounds += rounds
         followed = _best_followed(rounds)
-        if followed >= best_followed - (config.tolerance_s if torso_gain else 0.0):
-            best_table, best_followed, result.torso_gain = fitted, followed, float(torso_gain)
+        if per_run:
+            better = followed > best_followed + config.tolerance_s
+        else:
+            better = followed >= best_followed - (config.tolerance_s if torso_gain else 0.0)
+        if better:
+            best_table, best_followed = fitted, followed
+            result.torso_gain, result.front_s, result.per_run = float(torso_gain), front_s, per_run
     result.model = candidate(best_table)
     return result
