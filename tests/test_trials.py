@@ -213,7 +213,7 @@ def test_a_kick_episode_stops_at_its_live_cap_as_at_its_limit():
     from mimic.tasks.kick import KickTrialConfig, run_kick_episode
 
     kick = AgentSpec("motion", "kick_right")
-    with episode_cap(lambda: 6.0):
+    with episode_cap(lambda played_s: 6.0):
         capped = run_kick_episode(kick, 5, KickTrialConfig())
     limited = run_kick_episode(kick, 5, KickTrialConfig(episode_limit_s=6.0))
     assert capped == limited

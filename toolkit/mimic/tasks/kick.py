@@ -406,7 +406,7 @@ def _play_kick_episode(
         return kicks, as_row(summary)
 
     def limit_s() -> float:  # the config's limit, or less as the trial's budget runs out
-        return min(config.episode_limit_s, episode_cap_s())
+        return min(config.episode_limit_s, episode_cap_s(world.time_s))
 
     def left_s() -> float:
         return limit_s() - world.time_s

@@ -49,14 +49,18 @@ _refresh: Callable[[], None] | None = None
 
 class _CapFile:
     """An episode's live cap (``tasks.budget``): a file the trial rewrites as the episodes
-    before it end. Picklable (a path), for the worker that plays the episode. A file never
-    read (another machine's worker) means no cap; one removed after it was read, that the
-    trial is over (0)."""
+    before it play and end; beside it (``PLAYED``) the episode writes how far it has played,
+    which the trial reads as a bound on its duration when it lowers the later episodes'
+    caps. Picklable (a path), for the worker that plays the episode. A file never read
+    (another machine's worker) means no cap; one removed after it was read, that the trial
+    is over (0)."""
 
     def __init__(self, path: str) -> None:
         self.path, self._seen = path, False
 
-    def __call__(self) -> float:
+    def __call__(self, played_s: float | None = None) -> float:
+        if played_s is not None:
+            _write_cap(Path(self.path + _PLAYED), played_s)
         if _refresh is not None:
             _refresh()
         try:
@@ -67,11 +71,23 @@ class _CapFile:
         return cap_s
 
 
+#: The suffix of the file beside an episode's cap in which it says how far it has played.
+_PLAYED = ".played"
+
+
 def _write_cap(path: Path, cap_s: float) -> None:
     """Replace the file at once (a reader sees the old value or the new, never a part)."""
-    part = path.with_suffix(".part")
+    part = path.with_name(path.name + ".part")
     part.write_text(repr(cap_s))
     os.replace(part, path)
+
+
+def _played_s(path: Path) -> float:
+    """How far the episode whose cap is at ``path`` has said it played [s] (0: not yet)."""
+    try:
+        return float(path.with_name(path.name + _PLAYED).read_text())
+    except (OSError, ValueError):
+        return 0.0
 
 
 def run_job(job: tuple) -> tuple[list[dict], dict]:
@@ -148,7 +164,8 @@ def run_episodes(
     ``episode_limit_s``, at most what the budget had left when it started (plus a cycle):
     nothing of it past that could count, so it stops instead of playing on. With several
     workers that bound shrinks while the episode plays (``tasks.budget``), as the episodes
-    before it end, to zero once it cannot count. What counts does not depend on any of this.
+    before it play on and end, to zero once it cannot count. What counts does not depend on
+    any of this.
     """
     if (budget_s is None) == (episodes is None):
         raise ValueError("give exactly one of budget_s and episodes")
@@ -181,15 +198,14 @@ def run_episodes(
             traced = dataclasses.replace(config, trace=True) if i < trace_episodes else config
             index = first_episode + i
             job = (func, spec, derive_seed(seed, index))
-            if i == 0:
-                yield (*job, traced, index)
-                continue
-            traced = _capped(traced, budget_s, batch.simulated_s)
+            if i > 0:
+                traced = _capped(traced, budget_s, batch.simulated_s)
             limit_s = getattr(traced, "episode_limit_s", None)
             if caps is None or limit_s is None:
                 yield (*job, traced, index)
                 continue
-            cap_s[index] = limit_s
+            if i > 0:  # the first one's cap stays its limit: it says how far it played only
+                cap_s[index] = limit_s
             _write_cap(caps / str(index), limit_s)
             yield (*job, traced, index, _CapFile(str(caps / str(index))))
 
@@ -198,8 +214,9 @@ def run_episodes(
 
     def refresh() -> None:
         """Take the results of episodes that have ended, and lower the caps of those still
-        playing: the budget less every earlier episode known to have ended, plus a cycle (0
-        once that is nothing)."""
+        playing: the budget less every earlier episode, ended (its duration) or playing (how
+        far it has played, which it will at least take), plus a cycle (0 once that is
+        nothing)."""
         for index, handle in pending:
             if index not in ended and executor.done(handle):
                 try:
@@ -216,6 +233,8 @@ def run_episodes(
                     _write_cap(caps / str(index), cap)
             if index in ended:
                 spent_s += ended[index][1]["duration_s"]
+            else:
+                spent_s += _played_s(caps / str(index))
 
     # One episode more than workers when there are several: results are collected in order, so
     # a worker that finishes first would otherwise wait for the others before it gets the next.
