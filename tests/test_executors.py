@@ -285,6 +285,45 @@ def test_an_episode_started_early_stops_once_those_before_it_fill_the_budget(tmp
     assert (tmp_path / "one" / "3").read_text().split() == ["inf", "inf"]
 
 
+def reporting_episode(spec, seed, config):
+    """``capped_episode``'s order of play on two workers (1 and then 3 in the spawned process,
+    2 in this one), with episode 2 saying at each read of its cap that it has played 30 s,
+    until episode 3 has seen its own cap fall by that; episode 3 notes that cap."""
+    from pathlib import Path
+
+    from mimic.tasks.budget import episode_cap_s
+
+    index = next(i for i in range(len(_DURATIONS_S)) if _seed(3, i) == seed)
+    log = Path(config.log_dir)
+    if index == 1:
+        time.sleep(1.0)
+    if index == 2:
+        for _ in range(2000):
+            episode_cap_s(30.0)  # this process lowers the caps as it reads its own
+            if (log / "3").exists():
+                break
+            time.sleep(0.01)
+    if index == 3:  # until its cap is below what episodes 0 and 1 alone leave (90 s)
+        for _ in range(2000):
+            cap_s = episode_cap_s()
+            if cap_s < 200.0 - 50.0 - 60.0:
+                break
+            time.sleep(0.01)
+        (log / "3").write_text(repr(cap_s))
+    return [dict(index=index)], dict(duration_s=_DURATIONS_S[index])
+
+
+def test_an_episode_s_cap_falls_by_how_far_those_before_it_have_played(tmp_path):
+    """Two workers: episode 3 starts once 0 and 1 have ended (50 + 60 s), with 2 still
+    playing; its cap falls by the 30 s episode 2 says it has played (2 will take at least
+    that), before 2 ends."""
+    with PoolExecutor(2) as pool:
+        run_episodes(
+            reporting_episode, None, _Logged(str(tmp_path)), budget_s=200.0, seed=3, executor=pool
+        )
+    assert float((tmp_path / "3").read_text()) == pytest.approx(200.0 - 50.0 - 60.0 - 30.0 + 0.02)
+
+
 def dies(_):
     """A call whose worker process dies at once (killed, out of memory); in this process
     (a pool runs some calls here) it returns."""
