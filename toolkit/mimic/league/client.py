@@ -139,9 +139,10 @@ def wire_targets_rad(targets_rad: np.ndarray) -> np.ndarray:
     for the test, the values are formatted as text instead."""
     scaled = targets_rad * _DEGREES_E4  # the degrees x 1e4, within 5e-10 of exact
     whole = np.rint(scaled)
-    # The two tests on floats: two numpy reductions on 23 values cost more than the lists.
+    # The two tests on floats: two numpy reductions on 23 values cost more than the lists
+    # (a NaN target gives NaN on either path; an infinite one fails the second test).
     off = np.abs(scaled - whole).tolist()
-    if not max(off) <= 0.5 - 1e-6 or not max(map(abs, whole.tolist())) < 1e9:  # NaN: text
+    if not max(off) <= 0.5 - 1e-6 or not max(map(abs, whole.tolist())) < 1e9:
         degrees = np.degrees(targets_rad)
         return np.radians([float(f"{q:.4f}") for q in degrees])
     return whole / 1e4 * (math.pi / 180)  # k / 1e4: the double nearest k/10000, as float() reads
