@@ -181,7 +181,8 @@ def test_the_short_front_fits_are_kept_only_where_they_follow_further(tmp_path):
     """The follow's two short-front fits (each run mending the front before its own followed
     time) run after the 2 s fits, from the same start; one is kept only if it follows
     further by more than the tolerance, else the fitted copy is the one without them, the
-    same to the bit (copies whose 2 s fits already stand keep them)."""
+    same to the bit (copies whose 2 s fits already stand keep them); and a copy whose 2 s
+    fit rises to standing height does not try them."""
     from mimic.improve.follow import FollowConfig, follow_recording
     from mimic.tasks.getup import GetupTrialConfig
 
@@ -214,6 +215,12 @@ def test_the_short_front_fits_are_kept_only_where_they_follow_further(tmp_path):
         assert short.front_s == 2.0 and "the further of 4 fits" in short.describe()
     with pytest.raises(MimicError, match="short front"):
         FollowConfig(short_front_s=-1.0)
+    # A copy whose 2 s fit rises (here: any height counts) never tries the short fits.
+    risen = follow_recording(
+        copy, rec, legs, trial, FollowConfig(rounds=2, runs=2, short_front_below_m=0.0)
+    )
+    assert risen.rounds == base.rounds and not risen.per_run
+    assert np.array_equal(risen.model.track_offsets_rad, base.model.track_offsets_rad)
 
 
 def _best_followed_of(result, per_run):

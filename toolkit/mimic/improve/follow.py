@@ -46,15 +46,20 @@ recording reached, sample by sample, and the references corrected until they agr
    (``short_front_s``, 1 s) and let each run mend the front before its *own* followed time
    (a knot gets the mean step of the runs whose front holds it); one is kept only if it
    follows further than every fit before it by more than ``tolerance_s``, so a copy whose
-   2 s fits already follow to their recording's end keeps them, the same to the bit. Why
+   2 s fits already follow to their recording's end keeps them, the same to the bit; and
+   they are not tried at all once a 2 s fit raises the torso to standing height (the robot's
+   ``upright_above_m``, the mean over the best round's runs of each one's highest): R3's
+   2 s fit rose (0.67 m) and its stand search held it (9-10 of 10 at four unseen league
+   seeds), while its short fit, kept for following its recording further (13.24 against
+   9.82 s), stood 7-10 of 10 at four. Why
    (2026-11-28, R9 and R10, whose S1b copies never rose): their 2 s fronts reached back
    from the push out of the kneel (7.3-7.9 s) into the sit-up before it (5.0-5.8 s), whose
    large, brief errors then stepped the sit-up into failing (rounds undone, the gain halved
    to nothing), and a run that fell in the sit-up while the median went on was never mended
    there (its front lay past the median's). With the short fronts both followed to
    12.6-12.8 s, were upright in 6 of 6 league-like development runs, and with their stands
-   searched stood in 5 and 6 of 6 (docs/getups.md); of eight recordings whose copies rose
-   already, seven kept their 2 s fits, and R3's short fit stood 6 of 6 as its old one did.
+   searched stood in 5 and 6 of 6 (docs/getups.md); the eight recordings whose copies rose
+   already keep their 2 s fits.
 
 The result is an ordinary windowed model (``model.windowed.WindowedModel`` with an offset
 track, knots every ``knot_s``); a stand window (``--window auto``) can go on top.
@@ -136,6 +141,9 @@ class FollowConfig:
     # The front of two more fits [s] (0: none), each run's error mending only the front
     # before its own followed time; kept only if they follow further (module docstring, 7).
     short_front_s: float = 1.0
+    # They are tried only while the 2 s fit's torso stays below this height [m] (None: the
+    # robot's ``upright_above_m``): a copy that rises keeps its 2 s fit.
+    short_front_below_m: float | None = None
 
     def __post_init__(self) -> None:
         if self.torso_gain < 0 or not self.torso_clip_rad > 0:
@@ -212,6 +220,13 @@ class FollowResult:
 
 def _best_followed(rounds: list[FollowRound]) -> float:
     return max((r.followed for r in rounds if r.kept), default=-np.inf)
+
+
+def _rose(rounds: list[FollowRound], risen_m: float) -> bool:
+    """Whether the best kept round of ``rounds`` raised the torso to ``risen_m`` [m] (the
+    mean over its runs of each run's highest)."""
+    kept = [r for r in rounds if r.kept]
+    return bool(kept) and float(np.mean(max(kept, key=lambda r: r.followed).highest_m)) >= risen_m
 
 
 class _Reached(Observer):
@@ -466,8 +481,15 @@ def follow_recording(
     fits = [(g, config.front_s, False) for g in gains]
     if config.short_front_s > 0:  # kept only if they follow further than the fits above
         fits += [(g, config.short_front_s, True) for g in gains]
-    best_table, best_followed = table, -np.inf
+    risen_m = config.short_front_below_m
+    if risen_m is None:
+        risen_m = get_robot(model.robot).falls.upright_above_m
+    best_table, best_followed, rose = table, -np.inf, None
     for torso_gain, front_s, per_run in fits:
+        if per_run and rose is None:  # the fit kept so far is a 2 s one
+            rose = _rose(result.kept_rounds, risen_m)
+        if per_run and rose:
+            continue  # the 2 s fit raises the copy: its stand is the stand search's to hold
         rounds: list[FollowRound] = []
         fitted = fit(torso_gain, front_s, per_run, rounds)
         result.rounds += rounds
