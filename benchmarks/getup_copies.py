@@ -34,8 +34,9 @@ processes of the README's league block: the motion played on a server while ``mi
    ``--budget`` evaluations. Beside it, the second search's copy fitted until it follows its
    recording after its roll (``mimic improve AGAIN.mimic --follow REC --budget 24 --episodes
    3 --seed 3``; docs/getups.md, "Following the recording": fitted on the joints alone and
-   with the recording's torso pitch on the hips, then both with a 1 s front each run mends
-   for itself, kept only if it follows further; the fit that follows further kept), and
+   with the recording's torso pitch on the hips, then, for a copy that does not rise, both
+   with a 1 s front each run mends for itself, kept only if it follows further; the fit that
+   follows further kept), and
    that copy's stand searched (``--window auto --seed 4``).
 4. ``mimic trial getup --compare ORIGINAL REACHED COMPENSATED IMPROVED --runs R --seed S``:
    the T1 in the league's simulation (``--world league``) and in ours, the NAO in ours; one

@@ -133,8 +133,9 @@ def _improve(
             help="--objective getup, a learned copy of REC: fit its references in the trial's "
             "simulation until it follows REC (iterative learning control, from just after it "
             "first lies face down to its end, at REC's own speed; fitted on the joints alone "
-            "and with REC's torso pitch on the hips, then both again with a 1 s front that "
-            "each run mends for itself, the fit that follows further kept); "
+            "and with REC's torso pitch on the hips, then, if the copy does not rise, both "
+            "again with a 1 s front that each run mends for itself; the fit that follows "
+            "further kept); "
             "--budget: rounds per fit, --episodes: runs per round (default 3). No search, no "
             "validation.",
         ),
