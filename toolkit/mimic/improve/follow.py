@@ -202,7 +202,7 @@ class FollowResult:
 
     def describe(self) -> str:
         rounds = self.kept_rounds
-        first, best = rounds[0], max((r for r in rounds if r.kept), key=lambda r: r.followed)
+        first, best = rounds[0], _best_round(rounds)
         fits = {(r.torso_gain, r.front_s, r.per_run) for r in self.rounds}
         front = f", each run's own {self.front_s:g} s front" if self.per_run else ""
         which = f"{len(rounds)} rounds" + (
@@ -218,15 +218,21 @@ class FollowResult:
         )
 
 
+def _best_round(rounds: list[FollowRound]) -> FollowRound | None:
+    """The kept round of ``rounds`` that followed furthest (None: none kept)."""
+    return max((r for r in rounds if r.kept), key=lambda r: r.followed, default=None)
+
+
 def _best_followed(rounds: list[FollowRound]) -> float:
-    return max((r.followed for r in rounds if r.kept), default=-np.inf)
+    best = _best_round(rounds)
+    return -np.inf if best is None else best.followed
 
 
 def _rose(rounds: list[FollowRound], risen_m: float) -> bool:
     """Whether the best kept round of ``rounds`` raised the torso to ``risen_m`` [m] (the
     mean over its runs of each run's highest)."""
-    kept = [r for r in rounds if r.kept]
-    return bool(kept) and float(np.mean(max(kept, key=lambda r: r.followed).highest_m)) >= risen_m
+    best = _best_round(rounds)
+    return best is not None and float(np.mean(best.highest_m)) >= risen_m
 
 
 class _Reached(Observer):

@@ -46,21 +46,26 @@ def default_workers() -> int:
 #: plays itself sees the others end). None elsewhere.
 _refresh: Callable[[], None] | None = None
 
+#: The suffix of the file beside an episode's cap in which it says how far it has played.
+_PLAYED = ".played"
+
 
 class _CapFile:
     """An episode's live cap (``tasks.budget``): a file the trial rewrites as the episodes
-    before it play and end; beside it (``PLAYED``) the episode writes how far it has played,
+    before it play and end; beside it (``_PLAYED``) the episode writes how far it has played,
     which the trial reads as a bound on its duration when it lowers the later episodes'
     caps. Picklable (a path), for the worker that plays the episode. A file never read
     (another machine's worker) means no cap; one removed after it was read, that the trial
     is over (0)."""
 
     def __init__(self, path: str) -> None:
-        self.path, self._seen = path, False
+        self.path, self._seen, self._played_s = path, False, None
 
     def __call__(self, played_s: float | None = None) -> float:
-        if played_s is not None:
+        # An episode reads its cap several times at one decision: write what it played once.
+        if played_s is not None and played_s != self._played_s:
             _write_cap(Path(self.path + _PLAYED), played_s)
+            self._played_s = played_s
         if _refresh is not None:
             _refresh()
         try:
@@ -69,10 +74,6 @@ class _CapFile:
             return 0.0 if self._seen else math.inf
         self._seen = True
         return cap_s
-
-
-#: The suffix of the file beside an episode's cap in which it says how far it has played.
-_PLAYED = ".played"
 
 
 def _write_cap(path: Path, cap_s: float) -> None:
@@ -97,11 +98,12 @@ def run_job(job: tuple) -> tuple[list[dict], dict]:
     func, spec, seed, config, episode, *cap = job
     with episode_cap(cap[0] if cap else None):
         rows, summary = func(spec, seed, config)
-    for r in [*rows, *(r for _, cut, _ in summary.get(CHECKPOINTS, ()) for r in cut)]:
-        r["episode"] = episode
-    summary["episode"] = episode
-    for _, _, cut_summary in summary.get(CHECKPOINTS, ()):
-        cut_summary["episode"] = episode
+    # The episode as it ended and as of each of its checkpoints: each may be what counts.
+    as_of = [(rows, summary), *((r, s) for _, r, s in summary.get(CHECKPOINTS, ()))]
+    for some_rows, some_summary in as_of:
+        for r in some_rows:
+            r["episode"] = episode
+        some_summary["episode"] = episode
     return rows, summary
 
 
