@@ -1,0 +1,99 @@
+"""The README's get-up block: the shipped T1 back get-up, seen through a league server's
+monitor, learned and searched step by step and tried in the league.
+
+Every command parses and reads only what is shipped or made before it (cheap, always); the
+first learns the recording's start posture (a real training, always); the whole block runs
+as it stands in about 15 minutes on 2 cores, so that run is marked slow.
+"""
+
+from __future__ import annotations
+
+import os
+import re
+import shlex
+import subprocess
+import sys
+from pathlib import Path
+
+import polars as pl
+import pytest
+from test_quickstart import _OUTPUTS, _parse
+
+REPO = Path(__file__).resolve().parents[1]
+RECORDING = "recordings/t1_getup_back_seen.mcap"
+
+
+def getup_block(readme: str) -> str:
+    """The bash block under ``## Learning a get-up``."""
+    section = readme.split("## Learning a get-up", 1)[1]
+    return re.search(r"```bash\n(.*?)```", section, re.S).group(1)
+
+
+def getup_commands(readme: str) -> list[str]:
+    """The block's commands, continuation lines joined and comments removed."""
+    joined = getup_block(readme).replace("\\\n", " ")
+    commands = [line.split(" #", 1)[0].strip() for line in joined.splitlines()]
+    return [c for c in commands if c and not c.startswith("#")]
+
+
+def test_the_getup_block_uses_only_options_that_exist_and_files_made_before():
+    from typer.main import get_command
+
+    from mimic.cli.main import app
+
+    commands = getup_commands((REPO / "README.md").read_text())
+    assert [shlex.split(c)[1] for c in commands] == ["train", *["improve"] * 4, "trial"]
+    group = get_command(app)
+    made = {RECORDING}
+    assert (REPO / RECORDING).is_file()
+    for command in commands:
+        _, params = _parse(group, shlex.split(command)[1:])
+        for key, value in params.items():
+            for v in value if isinstance(value, (list, tuple)) else [value]:
+                if key in _OUTPUTS and v is not None:
+                    assert Path(v).parts[0] == "models", command
+                    made.add(Path(v).as_posix())
+                elif isinstance(v, Path) or str(v).endswith((".mimic", ".mcap")):
+                    assert Path(str(v)).as_posix() in made, f"{command}: {v} is made before?"
+
+
+def test_the_getup_block_s_training_knows_the_copy_starts_on_its_back(tmp_path):
+    from mimic.model.model_file import load_model
+
+    first = getup_commands((REPO / "README.md").read_text())[0]
+    (tmp_path / "recordings").mkdir()
+    (tmp_path / RECORDING).write_bytes((REPO / RECORDING).read_bytes())
+    done = _run(first, tmp_path)
+    assert done.returncode == 0, done.stdout + done.stderr
+    model = load_model(tmp_path / "models" / "getup.mimic")
+    assert model.metadata["start_posture"] == "lying_back" and model.robot == "t1"
+    assert 10.2 < model.duration_s < 10.3
+
+
+@pytest.mark.slow
+def test_the_getup_block_runs_as_it_stands_and_its_copy_stands(tmp_path):
+    (tmp_path / "recordings").mkdir()
+    (tmp_path / RECORDING).write_bytes((REPO / RECORDING).read_bytes())
+    block = getup_block((REPO / "README.md").read_text())
+    done = _run(block.replace("--disturb none", "--disturb none -o out/getup.parquet"), tmp_path, 3600)
+    said = done.stdout + done.stderr
+    assert done.returncode == 0, said[-3000:]
+    assert "--follow: window from" in said and "--window auto:" in said
+    runs = pl.read_parquet(tmp_path / "out" / "getup.parquet")
+    stood = runs.group_by("variant").agg(pl.col("stood").sum())
+    counts = dict(zip(stood["variant"], stood["stood"]))
+    assert counts["getup_back"] == 10 and counts["getup_fs (learned)"] >= 9
+    assert counts["getup (learned)"] == 0
+
+
+def _run(script: str, cwd: Path, timeout: float = 600) -> subprocess.CompletedProcess:
+    env = dict(os.environ)
+    env["PATH"] = f"{Path(sys.executable).parent}{os.pathsep}{env.get('PATH', '')}"
+    return subprocess.run(
+        ["bash", "-e", "-c", script],
+        cwd=cwd,
+        env=env,
+        capture_output=True,
+        text=True,
+        timeout=timeout,
+    )
