@@ -75,7 +75,9 @@ def test_the_getup_block_runs_as_it_stands_and_its_copy_stands(tmp_path):
     (tmp_path / "recordings").mkdir()
     (tmp_path / RECORDING).write_bytes((REPO / RECORDING).read_bytes())
     block = getup_block((REPO / "README.md").read_text())
-    done = _run(block.replace("--disturb none", "--disturb none -o out/getup.parquet"), tmp_path, 3600)
+    done = _run(
+        block.replace("--disturb none", "--disturb none -o out/getup.parquet"), tmp_path, 3600
+    )
     said = done.stdout + done.stderr
     assert done.returncode == 0, said[-3000:]
     assert "--follow: window from" in said and "--window auto:" in said
