@@ -54,7 +54,9 @@ def test_the_getup_block_uses_only_options_that_exist_and_files_made_before():
                     assert Path(v).parts[0] == "models", command
                     made.add(Path(v).as_posix())
                 elif isinstance(v, Path) or str(v).endswith((".mimic", ".mcap")):
-                    assert Path(str(v)).as_posix() in made, f"{command}: {v} is made before?"
+                    assert Path(str(v)).as_posix() in made, (
+                        f"{command}: {v} is made by no earlier command"
+                    )
 
 
 def test_the_getup_block_s_training_knows_the_copy_starts_on_its_back(tmp_path):
