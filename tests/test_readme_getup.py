@@ -3,7 +3,7 @@ monitor, learned and searched step by step and tried in the league.
 
 Every command parses and reads only what is shipped or made before it (cheap, always); the
 first learns the recording's start posture (a real training, always); the whole block runs
-as it stands in about 15 minutes on 2 cores, so that run is marked slow.
+as it stands in about 6 minutes on 2 cores, so that run is marked slow.
 """
 
 from __future__ import annotations
