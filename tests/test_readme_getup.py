@@ -8,16 +8,14 @@ as it stands in about 6 minutes on 2 cores, so that run is marked slow.
 
 from __future__ import annotations
 
-import os
 import re
 import shlex
-import subprocess
-import sys
 from pathlib import Path
 
 import polars as pl
 import pytest
 from test_quickstart import _OUTPUTS, _parse
+from test_readme_league import run_block
 
 REPO = Path(__file__).resolve().parents[1]
 RECORDING = "recordings/t1_getup_back_seen.mcap"
@@ -63,9 +61,8 @@ def test_the_getup_block_s_training_knows_the_copy_starts_on_its_back(tmp_path):
     from mimic.model.model_file import load_model
 
     first = getup_commands((REPO / "README.md").read_text())[0]
-    (tmp_path / "recordings").mkdir()
-    (tmp_path / RECORDING).write_bytes((REPO / RECORDING).read_bytes())
-    done = _run(first, tmp_path)
+    _ship_recording(tmp_path)
+    done = run_block(first, tmp_path, timeout_s=600)
     assert done.returncode == 0, done.stdout + done.stderr
     model = load_model(tmp_path / "models" / "getup.mimic")
     assert model.metadata["start_posture"] == "lying_back" and model.robot == "t1"
@@ -74,12 +71,10 @@ def test_the_getup_block_s_training_knows_the_copy_starts_on_its_back(tmp_path):
 
 @pytest.mark.slow
 def test_the_getup_block_runs_as_it_stands_and_its_copy_stands(tmp_path):
-    (tmp_path / "recordings").mkdir()
-    (tmp_path / RECORDING).write_bytes((REPO / RECORDING).read_bytes())
+    _ship_recording(tmp_path)
     block = getup_block((REPO / "README.md").read_text())
-    done = _run(
-        block.replace("--disturb none", "--disturb none -o out/getup.parquet"), tmp_path, 3600
-    )
+    block = block.replace("--disturb none", "--disturb none -o out/getup.parquet")
+    done = run_block(block, tmp_path, timeout_s=3600)
     said = done.stdout + done.stderr
     assert done.returncode == 0, said[-3000:]
     assert "--follow: window from" in said and "--window auto:" in said
@@ -90,14 +85,7 @@ def test_the_getup_block_runs_as_it_stands_and_its_copy_stands(tmp_path):
     assert counts["getup (learned)"] == 0
 
 
-def _run(script: str, cwd: Path, timeout: float = 600) -> subprocess.CompletedProcess:
-    env = dict(os.environ)
-    env["PATH"] = f"{Path(sys.executable).parent}{os.pathsep}{env.get('PATH', '')}"
-    return subprocess.run(
-        ["bash", "-e", "-c", script],
-        cwd=cwd,
-        env=env,
-        capture_output=True,
-        text=True,
-        timeout=timeout,
-    )
+def _ship_recording(clone: Path) -> None:
+    """The shipped recording where a fresh clone holds it."""
+    (clone / "recordings").mkdir()
+    (clone / RECORDING).write_bytes((REPO / RECORDING).read_bytes())

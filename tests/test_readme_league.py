@@ -39,19 +39,25 @@ def shortened(block: str) -> str:
     return block.replace("--fit-in-sim 6", "--fit-in-sim 1 --epochs 1500")
 
 
-def test_the_readme_league_block_runs_as_it_stands(tmp_path):
-    block = league_block((REPO / "README.md").read_text())
-    assert "rcssservermj" in block and "--period steps" in block and "--fit-in-sim 6" in block
+def run_block(script: str, cwd: Path, timeout_s: float) -> subprocess.CompletedProcess:
+    """A README block run by ``bash -e`` in ``cwd``, with this environment's commands first
+    on the PATH (``mimic``, ``rcssservermj``)."""
     env = dict(os.environ)
     env["PATH"] = f"{Path(sys.executable).parent}{os.pathsep}{env.get('PATH', '')}"
-    done = subprocess.run(
-        ["bash", "-e", "-c", shortened(block)],
-        cwd=tmp_path,
+    return subprocess.run(
+        ["bash", "-e", "-c", script],
+        cwd=cwd,
         env=env,
         capture_output=True,
         text=True,
-        timeout=900,
+        timeout=timeout_s,
     )
+
+
+def test_the_readme_league_block_runs_as_it_stands(tmp_path):
+    block = league_block((REPO / "README.md").read_text())
+    assert "rcssservermj" in block and "--period steps" in block and "--fit-in-sim 6" in block
+    done = run_block(shortened(block), tmp_path, timeout_s=900)
     said = done.stdout + done.stderr
     assert done.returncode == 0, said[-3000:]
     assert "Traceback" not in said
