@@ -25,19 +25,21 @@ processes of the README's league block: the motion played on a server while ``mi
    ``--validate 0``: the trial below is the validation).
    The objective scores runs that stay down in stages (how high the torso rose, how far it
    turned to face the ground, how long it was upright), so the T1's back copy, which sits
-   up and falls back as compensated, is searched into rolling onto its front. It then gets a
-   chain (docs/getups.md, "The stand window placed by the copy's own runs"): a second
-   whole-motion search (``--seed 5``; it brought recording C's copy upright, not R1's or
-   R2's), then a search over the stand alone, ``mimic improve AGAIN.mimic --window auto
-   --seed 4``: the window from just before the copy is first upright in its own runs (or
-   highest, if never upright) to its end, placed by ``mimic improve`` itself. Each search:
-   ``--budget`` evaluations. Beside it, the second search's copy fitted until it follows its
-   recording after its roll (``mimic improve AGAIN.mimic --follow REC --budget 24 --episodes
-   3 --seed 3``; docs/getups.md, "Following the recording": fitted on the joints alone and
-   with the recording's torso pitch on the hips, then, for a copy that does not rise, both
-   with a 1 s front each run mends for itself, kept only if it follows further; the fit that
-   follows further kept), and
-   that copy's stand searched (``--window auto --seed 4``).
+   up and falls back as compensated, is searched into rolling onto its front. The T1's front
+   copy then gets its stand searched (``mimic improve IMPROVED.mimic --window auto --seed
+   4``, below; docs/getups.md, "The front get-up's stand": a fresh recording's copy rose and
+   toppled in the hold). The back copy gets a chain (docs/getups.md, "The stand window
+   placed by the copy's own runs"): a second whole-motion search (``--seed 5``; it brought
+   recording C's copy upright, not R1's or R2's), then a search over the stand alone,
+   ``mimic improve AGAIN.mimic --window auto --seed 4``: the window from just before the
+   copy is first upright in its own runs (or highest, if never upright) to its end, placed
+   by ``mimic improve`` itself. Each search: ``--budget`` evaluations. Beside it, the
+   second search's copy fitted until it follows its recording after its roll
+   (``mimic improve AGAIN.mimic --follow REC --budget 24 --episodes 3 --seed 3``;
+   docs/getups.md, "Following the recording": fitted on the joints alone and with the
+   recording's torso pitch on the hips, then, for a copy that does not rise, both with a
+   1 s front each run mends for itself, kept only if it follows further; the fit that
+   follows further kept), and that copy's stand searched (``--window auto --seed 4``).
 4. ``mimic trial getup --compare ORIGINAL REACHED COMPENSATED IMPROVED --runs R --seed S``:
    the T1 in the league's simulation (``--world league``) and in ours, the NAO in ours; one
    table per ``--seed`` given (the copies are learned once).
@@ -110,6 +112,16 @@ def learn(
         str(IMPROVE_SEED), "-o", str(improved), "--force",
     )  # fmt: skip
     copies = [str(reached), str(compensated), str(improved)]
+    if robot == "t1" and side == "front":
+        # The whole-motion search's copy can rise and topple in the hold (docs/getups.md,
+        # "The front get-up's stand"): its stand is searched, as the back get-up's is.
+        stand = out / f"{robot}_{side}_stand.mimic"
+        lines = mimic(
+            "improve", str(improved), *search, "--window", "auto", "--budget", str(budget),
+            "--seed", str(WINDOW_SEED), "-o", str(stand), "--force",
+        )  # fmt: skip
+        print("\n".join(line for line in lines if line.startswith("--window auto")), flush=True)
+        copies.append(str(stand))
     if robot == "t1" and side == "back":
         again = out / f"{robot}_{side}_improved_again.mimic"
         stand = out / f"{robot}_{side}_improved_stand.mimic"
