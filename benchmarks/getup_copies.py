@@ -90,6 +90,15 @@ def record(robot: str, side: str, out: Path) -> tuple[Path, float]:
     return path, 0.0  # our recorder stops when the motion ends
 
 
+def search_stand(copy: Path, stand: Path, search: list[str], budget: int) -> None:
+    """``mimic improve COPY --window auto``: the copy's stand searched (``WINDOW_SEED``)."""
+    lines = mimic(
+        "improve", str(copy), *search, "--window", "auto", "--budget", str(budget),
+        "--seed", str(WINDOW_SEED), "-o", str(stand), "--force",
+    )  # fmt: skip
+    print("\n".join(line for line in lines if line.startswith("--window auto")), flush=True)
+
+
 def learn(
     robot: str, side: str, rec: Path, end_s: float, out: Path, budget: int | None, workers: int
 ) -> list[str]:
@@ -116,11 +125,7 @@ def learn(
         # The whole-motion search's copy can rise and topple in the hold (docs/getups.md,
         # "The front get-up's stand"): its stand is searched, as the back get-up's is.
         stand = out / f"{robot}_{side}_stand.mimic"
-        lines = mimic(
-            "improve", str(improved), *search, "--window", "auto", "--budget", str(budget),
-            "--seed", str(WINDOW_SEED), "-o", str(stand), "--force",
-        )  # fmt: skip
-        print("\n".join(line for line in lines if line.startswith("--window auto")), flush=True)
+        search_stand(improved, stand, search, budget)
         copies.append(str(stand))
     if robot == "t1" and side == "back":
         again = out / f"{robot}_{side}_improved_again.mimic"
@@ -129,11 +134,7 @@ def learn(
             "improve", str(improved), *search, "--budget", str(budget), "--seed",
             str(AGAIN_SEED), "-o", str(again), "--force",
         )  # fmt: skip
-        lines = mimic(
-            "improve", str(again), *search, "--window", "auto", "--budget", str(budget),
-            "--seed", str(WINDOW_SEED), "-o", str(stand), "--force",
-        )  # fmt: skip
-        print("\n".join(line for line in lines if line.startswith("--window auto")), flush=True)
+        search_stand(again, stand, search, budget)
         followed = out / f"{robot}_{side}_followed.mimic"
         lines = mimic(
             "improve", str(again), "--objective", "getup", "--robot", robot, "--world", world,
@@ -142,11 +143,7 @@ def learn(
         )  # fmt: skip
         print("\n".join(line for line in lines if line.startswith("--follow")), flush=True)
         followed_stand = out / f"{robot}_{side}_followed_stand.mimic"
-        lines = mimic(
-            "improve", str(followed), *search, "--window", "auto", "--budget", str(budget),
-            "--seed", str(WINDOW_SEED), "-o", str(followed_stand), "--force",
-        )  # fmt: skip
-        print("\n".join(line for line in lines if line.startswith("--window auto")), flush=True)
+        search_stand(followed, followed_stand, search, budget)
         copies += [str(again), str(stand), str(followed), str(followed_stand)]
     return copies
 
