@@ -102,7 +102,8 @@ def search_stand(copy: Path, stand: Path, search: list[str], budget: int) -> Non
 def learn(
     robot: str, side: str, rec: Path, end_s: float, out: Path, budget: int | None, workers: int
 ) -> list[str]:
-    """The copies: reached, compensated, compensated and improved; their files."""
+    """The copies' files: reached, compensated, improved, then the T1's steps after the search
+    (front: its stand; back: the second search, its stand, the followed copy and its stand)."""
     window = ["--end", str(end_s)] if end_s else []
     topic = [] if robot == "t1" else ["--topic", "/joint_states"]
     reached, compensated = out / f"{robot}_{side}_reached.mimic", out / f"{robot}_{side}.mimic"
