@@ -8,14 +8,13 @@ as it stands in about 6 minutes on 2 cores, so that run is marked slow.
 
 from __future__ import annotations
 
-import re
 import shlex
 from pathlib import Path
 
 import polars as pl
 import pytest
 from test_quickstart import _OUTPUTS, _parse
-from test_readme_league import run_block
+from test_readme_league import readme_block, run_block
 
 REPO = Path(__file__).resolve().parents[1]
 RECORDING = "recordings/t1_getup_back_seen.mcap"
@@ -23,8 +22,7 @@ RECORDING = "recordings/t1_getup_back_seen.mcap"
 
 def getup_block(readme: str) -> str:
     """The bash block under ``## Learning a get-up``."""
-    section = readme.split("## Learning a get-up", 1)[1]
-    return re.search(r"```bash\n(.*?)```", section, re.S).group(1)
+    return readme_block(readme, "## Learning a get-up")
 
 
 def getup_commands(readme: str) -> list[str]:

@@ -20,10 +20,15 @@ import polars as pl
 REPO = Path(__file__).resolve().parents[1]
 
 
+def readme_block(readme: str, heading: str) -> str:
+    """The first bash block under ``heading`` (a README section title, ``## ...``)."""
+    section = readme.split(heading, 1)[1]
+    return re.search(r"```bash\n(.*?)```", section, re.S).group(1)
+
+
 def league_block(readme: str) -> str:
     """The bash block under ``## Quick start: the league world``."""
-    section = readme.split("## Quick start: the league world", 1)[1]
-    return re.search(r"```bash\n(.*?)```", section, re.S).group(1)
+    return readme_block(readme, "## Quick start: the league world")
 
 
 def _free_port() -> int:
