@@ -352,3 +352,83 @@ def test_improve_places_the_window_of_a_copy_that_never_stands_before_its_highes
     written = load_model(run.out)
     assert written.metadata["correction"]["window_s"][0] == placed.start_s
     assert "never upright" in placed.describe()
+
+
+@pytest.fixture(scope="module")
+def nao_front_copies(tmp_path_factory):
+    """Two NAO copies of ``getup_front`` seen through ``/joint_states``: the whole motion
+    (stands up in most runs) and its first second only (it never stands)."""
+    folder = tmp_path_factory.mktemp("copies")
+    rec = folder / "front.mcap"
+    runner = CliRunner()
+    res = runner.invoke(app, ["record", "getup_front", "--observe-only", "-o", str(rec)])
+    assert res.exit_code == 0, res.output
+    copies = {}
+    for name, window in (("whole", []), ("first_second", ["--end", "1.0"])):
+        copies[name] = folder / f"{name}.mimic"
+        args = ["train", str(rec), "--topic", "/joint_states", "--target", "reached"]
+        res = runner.invoke(app, [*args, *window, "-o", str(copies[name])])
+        assert res.exit_code == 0, res.output
+    return copies
+
+
+def test_keep_best_copies_the_model_that_stood_up_more(tmp_path, nao_front_copies):
+    whole, part = nao_front_copies["whole"], nao_front_copies["first_second"]
+    best = tmp_path / "best.mimic"
+    trial = ["trial", "getup", "--compare", "getup_front", str(part), str(whole)]
+    trial += ["--runs", "3", "--seed", "7", "--workers", "1", "--keep-best", str(best)]
+    res = CliRunner().invoke(app, trial)
+    assert res.exit_code == 0, res.output
+    assert best.read_bytes() == whole.read_bytes()
+    (kept,) = [line for line in res.output.splitlines() if line.startswith("kept")]
+    assert kept.startswith(f"kept {whole} as {best}: the best of 2 learned models")
+    # The kept file is the user's: a second trial does not replace it without --force...
+    best.write_bytes(part.read_bytes())
+    res = CliRunner().invoke(app, trial)
+    assert res.exit_code != 0 and "pass --force" in res.output
+    assert best.read_bytes() == part.read_bytes()
+    # ...and with it, replaces it only once the trial is done.
+    res = CliRunner().invoke(app, [*trial, "--force"])
+    assert res.exit_code == 0 and best.read_bytes() == whole.read_bytes()
+
+
+def test_keep_best_is_checked_before_the_first_run(tmp_path, nao_front_copies):
+    whole = str(nao_front_copies["whole"])
+    trial = ["trial", "getup", "--runs", "1", "--workers", "1", "--keep-best"]
+    for args, says in (
+        ([str(tmp_path / "best.txt"), whole], "a model file's name ends in .mimic"),
+        ([str(tmp_path / "best.mimic"), "getup_front", "getup_back"], "give at least one .mimic"),
+        ([whole, "--compare", "getup_front", whole], "is also an input"),
+    ):
+        res = CliRunner().invoke(app, [*trial, *args])
+        assert res.exit_code != 0 and says in " ".join(res.output.split()), res.output
+        assert "Traceback" not in res.output and "runs" not in res.output
+    assert not any(tmp_path.iterdir())
+    # Only a trial that ranks its variants offers it.
+    res = CliRunner().invoke(app, ["trial", "kick", "--keep-best", "k.mimic"])
+    assert res.exit_code == 2 and "no such option: --keep-best" in res.output
+
+
+def test_keep_best_prefers_more_stood_then_faster_then_the_first_given(tmp_path):
+    import polars as pl
+
+    from mimic.agents.registry import AgentSpec
+    from mimic.trials.api import TrialResult, keep_best
+
+    specs = [AgentSpec("motion", "getup_front")]
+    for name in ("a", "b", "c", "d"):
+        (tmp_path / f"{name}.mimic").write_bytes(name.encode())
+        specs.append(AgentSpec("model", str(tmp_path / f"{name}.mimic")))
+    summary = pl.DataFrame(
+        {
+            "variant": ["getup_front", "a", "b", "c", "d"],
+            "runs": [10] * 5,
+            "stood": [10, 9, 9, 9, 0],
+            "success_pct": [100.0, 90.0, 90.0, 90.0, 0.0],
+            "mean_time_to_stand_s": [5.0, 6.0, 5.5, 5.5, None],
+        }
+    )
+    result = TrialResult("getup", pl.DataFrame(), summary)
+    best, row = keep_best(result, specs, tmp_path / "best.mimic")
+    assert best == specs[2] and row["variant"] == "b"
+    assert (tmp_path / "best.mimic").read_bytes() == b"b"

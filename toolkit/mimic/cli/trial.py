@@ -295,16 +295,22 @@ def _check(
     save: Path | None,
     force: bool,
     rerun: bool = False,
+    keep: Path | None = None,
     **trial_options,
 ) -> None:
     """Before the first episode: options, every variant, and the outputs (they can be
     written, and do not exist unless --force)."""
     from mimic.files import check_outputs, spec_files
-    from mimic.trials.api import check_trial, trial_files
+    from mimic.model.model_file import SUFFIX
+    from mimic.trials.api import check_trial, keep_candidates, trial_files
 
     check_trial(task, specs, **trial_options)
+    if keep is not None:
+        keep_candidates(task, specs)
+        if keep.suffix != SUFFIX:
+            raise MimicError(f"--keep-best {keep}: a model file's name ends in {SUFFIX}")
     check_outputs(
-        [*trial_files(out), save],
+        [*trial_files(out), save, keep],
         force=force,
         inputs=spec_files(*(s.ref for s in specs)),
     )
@@ -349,6 +355,24 @@ _SPEED_OPTIONS = {
         None,
     ),
 }
+
+
+def _keep_options(task) -> dict:
+    """``--keep-best`` for a trial that ranks its variants (``TrialTask.rank``)."""
+    if task.rank is None:
+        return {}
+    help_text = (
+        f"Copy the best learned model (.mimic) of the variants to this file ({task.rank_says}; "
+        "a tie: the one given first)."
+    )
+    return {
+        "keep_best": (
+            Annotated[Path | None, typer.Option("--keep-best", help=help_text, show_default=False)],
+            None,
+        )
+    }
+
+
 _OUTPUT_OPTIONS = {
     "out": (
         Annotated[Path | None, typer.Option("--out", "-o", help="Parquet file of every event.")],
@@ -411,6 +435,7 @@ def _trial_command(task):
         **_RUN_OPTIONS,
         **(_SPEED_OPTIONS if task.speed_command else {}),
         **_OUTPUT_OPTIONS,
+        **_keep_options(task),
         **_task_options(task),
     }
 
@@ -459,6 +484,7 @@ def _play_trial(task, given: dict) -> None:
         None if vx is None else options.finite(vx, "--vx", above=0),
     )
     seed, workers, force = given["seed"], given["workers"], given["force"]
+    keep = given.get("keep_best")
     _check(
         task.name,
         specs,
@@ -466,6 +492,7 @@ def _play_trial(task, given: dict) -> None:
         save,
         force,
         given["rerun"],
+        keep,
         minutes=minutes,
         runs=runs,
         seed=seed,
@@ -492,6 +519,23 @@ def _play_trial(task, given: dict) -> None:
     budget = _minutes_text(result, minutes) if minutes else f"{runs} runs per variant"
     _print(result, f"{task.title(config)}, {budget}, seed {seed}; {_world_text(result)}", config)
     _dashboard(result, save, given["rerun"], force)
+    if keep is not None:
+        _keep_best(result, specs, keep, force)
+
+
+def _keep_best(result, specs, path: Path, force: bool) -> None:
+    """``--keep-best``: the best learned model copied to ``path``, and one line on why."""
+    from mimic.trials.api import keep_best, keep_candidates
+
+    best, _ = keep_best(result, specs, path, overwrite=force)
+    played = ", played inside the balance layer" if best.balance else ""
+    console.print(
+        f"kept {best.ref} as {path}{played}: the best of "
+        f"{len(keep_candidates(result.kind, specs))} learned models ({result.task.rank_says})",
+        highlight=False,
+        markup=False,
+        soft_wrap=True,  # one line, however long the paths
+    )
 
 
 def _bench_league(

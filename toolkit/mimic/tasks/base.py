@@ -20,6 +20,7 @@ task by name and never ask which one it is.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass, field, fields
 from typing import Any, ClassVar
 
@@ -173,6 +174,11 @@ class TrialTask:
     paired: ClassVar[bool] = False
     #: The dashboard's curves.
     dashboard: ClassVar[Dashboard]
+    #: How ``--keep-best`` ranks the variants: a summary row -> a key, the largest best
+    #: (equal keys: the variant given first). None: the trial keeps no best.
+    rank: ClassVar[Callable[[dict], tuple] | None] = None
+    #: What ``rank`` prefers, in a few words (the option's help, the kept line).
+    rank_says: ClassVar[str] = ""
 
     @staticmethod
     def run_episode(spec: AgentSpec, seed: int, config) -> tuple[list[dict], dict]:

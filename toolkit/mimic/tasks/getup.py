@@ -293,6 +293,12 @@ def getup_summary(label: str, batch: EpisodeBatch) -> dict:
     )
 
 
+def getup_rank(summary_row: dict) -> tuple[float, float]:
+    """``--keep-best``: more runs stood up, then a shorter mean time to stand."""
+    time_s = summary_row["mean_time_to_stand_s"]
+    return summary_row["success_pct"], -(math.inf if time_s is None else time_s)
+
+
 @dataclass(frozen=True)
 class GetupObjective:
     """What ``mimic improve --objective getup`` maximises: the share of get-up trial runs
@@ -417,6 +423,8 @@ class GetupTask(TrialTask):
     )
     run_episode = staticmethod(run_getup_episode)
     summarise = staticmethod(getup_summary)
+    rank = staticmethod(getup_rank)
+    rank_says = "more runs stood, then a shorter mean time to stand"
 
     @classmethod
     def default_variant(cls, robot: str, config: GetupTrialConfig) -> str:

@@ -14,7 +14,7 @@ from mimic import options
 from mimic.agents.registry import AgentSpec
 from mimic.episode.disturbance import disturb_level
 from mimic.errors import MimicError
-from mimic.files import check_outputs
+from mimic.files import atomic_output, check_outputs
 from mimic.model.model_file import load_model
 from mimic.motion.files import load_motion
 from mimic.tasks.base import EpisodeBatch, TrialTask
@@ -42,6 +42,8 @@ __all__ = [
     "check_trial",
     "check_variants",
     "trial_files",
+    "keep_candidates",
+    "keep_best",
 ]
 
 
@@ -66,6 +68,44 @@ class TrialResult:
 def trial_files(out: Path | None) -> list[Path]:
     """The files a trial with ``out`` writes: the parquet of every event and its summary."""
     return [] if out is None else [Path(out), *summary_files(Path(out))]
+
+
+def keep_candidates(task: str | type[TrialTask], specs: list[AgentSpec]) -> list[AgentSpec]:
+    """The variants ``--keep-best`` chooses among: the learned models (``.mimic``).
+
+    Raises:
+        MimicError: the trial ranks no variants (``TrialTask.rank``), or none is a model.
+    """
+    task = _task(task)
+    if task.rank is None:
+        raise MimicError(f"the {task.name} trial keeps no best variant (--keep-best)")
+    candidates = [s for s in specs if s.kind == "model"]
+    if not candidates:
+        raise MimicError("--keep-best keeps a learned model: give at least one .mimic variant")
+    return candidates
+
+
+def keep_best(
+    result: TrialResult, specs: list[AgentSpec], path: Path, *, overwrite: bool = False
+) -> tuple[AgentSpec, dict]:
+    """The best learned model of the trial (``keep_candidates``, ranked by the task's
+    ``rank`` on its summary row; equal ranks: the one given first), its file copied to
+    ``path`` as it is (replaced only when the copy is whole). Returns (its spec, its row).
+
+    Raises:
+        MimicError: as ``keep_candidates``; OutputError: ``path`` exists and not ``overwrite``.
+    """
+    candidates = keep_candidates(result.kind, specs)
+    # The summary has a row per variant in the order given (two variants may share a label).
+    ranked = [
+        (spec, row)
+        for spec, row in zip(specs, result.summary.iter_rows(named=True), strict=True)
+        if spec in candidates
+    ]
+    best, row = max(ranked, key=lambda pair: result.task.rank(pair[1]))
+    with atomic_output(path, overwrite=overwrite) as tmp:
+        Path(tmp).write_bytes(Path(best.ref).read_bytes())
+    return best, row
 
 
 def check_variants(task: str | type[TrialTask], specs: list[AgentSpec]) -> None:
