@@ -355,24 +355,6 @@ _SPEED_OPTIONS = {
         None,
     ),
 }
-
-
-def _keep_options(task) -> dict:
-    """``--keep-best`` for a trial that ranks its variants (``TrialTask.rank``)."""
-    if task.rank is None:
-        return {}
-    help_text = (
-        f"Copy the best learned model (.mimic) of the variants to this file ({task.rank_says}; "
-        "a tie: the one given first)."
-    )
-    return {
-        "keep_best": (
-            Annotated[Path | None, typer.Option("--keep-best", help=help_text, show_default=False)],
-            None,
-        )
-    }
-
-
 _OUTPUT_OPTIONS = {
     "out": (
         Annotated[Path | None, typer.Option("--out", "-o", help="Parquet file of every event.")],
@@ -423,6 +405,22 @@ def _task_options(task) -> dict:
             None,
         )
         for o in task.options
+    }
+
+
+def _keep_options(task) -> dict:
+    """``--keep-best`` for a trial that ranks its variants (``TrialTask.rank``)."""
+    if task.rank is None:
+        return {}
+    help_text = (
+        f"Copy the best learned model (.mimic) of the variants to this file ({task.rank_says}; "
+        "a tie: the one given first)."
+    )
+    return {
+        "keep_best": (
+            Annotated[Path | None, typer.Option("--keep-best", help=help_text, show_default=False)],
+            None,
+        )
     }
 
 
