@@ -101,17 +101,6 @@ def record(robot: str, side: str, out: Path) -> tuple[Path, float]:
     return path, 0.0  # our recorder stops when the motion ends
 
 
-def search_stand(
-    copy: Path, stand: Path, search: list[str], budget: int, seed: int = WINDOW_SEED
-) -> None:
-    """``mimic improve COPY --window auto``: the copy's stand searched."""
-    lines = mimic(
-        "improve", str(copy), *search, "--window", "auto", "--budget", str(budget),
-        "--seed", str(seed), "-o", str(stand), "--force",
-    )  # fmt: skip
-    print("\n".join(line for line in lines if line.startswith("--window auto")), flush=True)
-
-
 def learn(
     robot: str, side: str, rec: Path, end_s: float, out: Path, budget: int | None, workers: int
 ) -> list[str]:
@@ -148,6 +137,14 @@ def learn(
         )  # fmt: skip
         print("\n".join(line for line in lines if line.startswith("--follow")), flush=True)
 
+    def search_stand(copy: Path, to: Path, seed: int = WINDOW_SEED) -> None:
+        """``mimic improve COPY --window auto``: the copy's stand searched."""
+        lines = mimic(
+            "improve", str(copy), *search, "--window", "auto", "--budget", str(budget),
+            "--seed", str(seed), "-o", str(to), "--force",
+        )  # fmt: skip
+        print("\n".join(line for line in lines if line.startswith("--window auto")), flush=True)
+
     whole(compensated, improved, IMPROVE_SEED)
     copies = [str(reached), str(compensated), str(improved)]
     if robot != "t1":
@@ -161,16 +158,16 @@ def learn(
         # one search and after two; the trial keeps the one that stands more.
         stand = out / f"{robot}_{side}_stand.mimic"
         again_stand = out / f"{robot}_{side}_again_stand.mimic"
-        search_stand(improved, stand, search, budget)
-        search_stand(again, again_stand, search, budget)
+        search_stand(improved, stand)
+        search_stand(again, again_stand)
         keep_best(robot, [stand, again_stand], kept, workers)
         return copies + [str(stand), str(again_stand), str(kept)]
     stand = out / f"{robot}_{side}_improved_stand.mimic"
-    search_stand(again, stand, search, budget)
+    search_stand(again, stand)
     followed = out / f"{robot}_{side}_followed.mimic"
     followed_stand = out / f"{robot}_{side}_followed_stand.mimic"
     follow(again, followed, IMPROVE_SEED)
-    search_stand(followed, followed_stand, search, budget)
+    search_stand(followed, followed_stand)
     # The same chain again from the compensated copy, on other seeds (docs/getups.md,
     # "A second chain"): one chain's copy of a recording can stand 4-6 of 10 where the
     # other's stands 10 of 10; the trial keeps the better.
@@ -182,7 +179,7 @@ def learn(
     whole(compensated, first, seeds[0])
     whole(first, second, seeds[1])
     follow(second, fitted, seeds[2])
-    search_stand(fitted, fitted_stand, search, budget, seeds[3])
+    search_stand(fitted, fitted_stand, seeds[3])
     keep_best(robot, [stand, followed_stand, fitted_stand], kept, workers)
     return copies + [
         str(again), str(stand), str(followed), str(followed_stand), str(fitted_stand), str(kept)
